@@ -1,0 +1,1 @@
+"""Grid databases: the model, manifests, loaders, checksums, generated worlds."""

@@ -1,0 +1,1 @@
+"""Generated worlds: scene description, textures, panoramic ray caster, variants."""

@@ -1,0 +1,1 @@
+"""Pair planning, jobs, cache / resume, metrics (AE, AHC, RR), route homing."""

@@ -1,0 +1,356 @@
+"""Angles, frames, grid coordinates and camera models: the one place conventions live.
+
+Conventions (every other module asks this one):
+
+- **World frame**: metres; x to the right, y up (on a map), z up from the floor. A world
+  direction is an angle counter-clockwise from +x, in radians.
+- **Pose**: position (x, y) and heading, the world direction the robot faces.
+- **Azimuth**: a direction in the robot frame, counter-clockwise, 0 = the robot's heading.
+  ``world direction = heading + azimuth``.
+- **Elevation**: angle above the camera's horizontal plane, radians, positive up.
+- **Grid**: index (i, j) sits at ``(x0 + i * spacing, y0 + j * spacing)``; i runs along x
+  (0 .. nx-1), j along y (0 .. ny-1), as in Vardy's ``X_Y`` file names.
+- **Pixels**: (u, v) = (column, row); the centre of pixel (u, v) is at integer coordinates
+  (OpenCV's remap convention); v grows downwards.
+- **Unfolded panorama**: column p has azimuth ``direction * 2*pi*(p - zero_column) / width``;
+  rows span ``elevation_top`` (upper edge of row 0) to ``elevation_bottom`` (lower edge of the
+  last row) linearly.
+- **Raw catadioptric image**: a centre, a radial profile (radius -> elevation, monotone), and the
+  image angle (counter-clockwise as displayed, from +u) at which azimuth 0 appears, with the
+  direction in which azimuth grows on screen (a mirror seen from below usually flips it).
+
+All angles are radians unless a name ends in ``_deg``. Angle arrays may be any shape.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+TWO_PI = 2.0 * np.pi
+Direction = Literal["ccw", "cw"]
+FloatArray = NDArray[np.float64]
+
+
+# --------------------------------------------------------------------------- angles
+
+
+def wrap_angle(angle: ArrayLike) -> FloatArray:
+    """Wrap angles to [-pi, pi). Shape is preserved."""
+    a = np.asarray(angle, dtype=np.float64)
+    return (a + np.pi) % TWO_PI - np.pi
+
+
+def wrap_positive(angle: ArrayLike) -> FloatArray:
+    """Wrap angles to [0, 2*pi). Shape is preserved."""
+    return np.asarray(angle, dtype=np.float64) % TWO_PI
+
+
+def angle_diff(a: ArrayLike, b: ArrayLike) -> FloatArray:
+    """Signed difference ``a - b`` wrapped to [-pi, pi)."""
+    return wrap_angle(np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64))
+
+
+def angular_error(estimate: ArrayLike, truth: ArrayLike) -> FloatArray:
+    """Unsigned angular error ``|wrap(estimate - truth)|`` in [0, pi] (seed 001, eq. 6 and 11)."""
+    return np.abs(angle_diff(estimate, truth))
+
+
+def circular_mean(angles: ArrayLike, weights: ArrayLike | None = None) -> float:
+    """Direction of the (weighted) mean unit vector of ``angles`` (shape (n,)); NaN if n == 0."""
+    a = np.asarray(angles, dtype=np.float64).ravel()
+    if a.size == 0:
+        return float("nan")
+    w = np.ones_like(a) if weights is None else np.asarray(weights, dtype=np.float64).ravel()
+    return float(np.arctan2(np.sum(w * np.sin(a)), np.sum(w * np.cos(a))))
+
+
+def robot_to_world(azimuth: ArrayLike, heading: ArrayLike) -> FloatArray:
+    """World direction of a robot-frame azimuth seen by a robot with ``heading``."""
+    return wrap_angle(np.asarray(heading) + np.asarray(azimuth))
+
+
+def world_to_robot(direction: ArrayLike, heading: ArrayLike) -> FloatArray:
+    """Robot-frame azimuth of a world ``direction`` for a robot with ``heading``."""
+    return wrap_angle(np.asarray(direction) - np.asarray(heading))
+
+
+def world_direction(from_xy: ArrayLike, to_xy: ArrayLike) -> FloatArray:
+    """World direction from points ``from_xy`` to ``to_xy`` (shapes (..., 2)), in [-pi, pi]."""
+    d = np.asarray(to_xy, dtype=np.float64) - np.asarray(from_xy, dtype=np.float64)
+    return np.arctan2(d[..., 1], d[..., 0])
+
+
+# --------------------------------------------------------------------------- poses and grids
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A robot pose in the world frame: position in metres, heading in radians."""
+
+    x: float
+    y: float
+    heading: float = 0.0
+
+    @property
+    def xy(self) -> FloatArray:
+        return np.array([self.x, self.y])
+
+    def bearing_to(
+        self, points: ArrayLike, camera_height: float = 0.0
+    ) -> tuple[FloatArray, FloatArray]:
+        """Azimuth and elevation of world points (shape (..., 3)) from a camera at this pose.
+
+        The camera sits ``camera_height`` metres above the floor. Returns two arrays of shape (...).
+        """
+        p = np.asarray(points, dtype=np.float64)
+        dx, dy, dz = p[..., 0] - self.x, p[..., 1] - self.y, p[..., 2] - camera_height
+        azimuth = world_to_robot(np.arctan2(dy, dx), self.heading)
+        elevation = np.arctan2(dz, np.hypot(dx, dy))
+        return azimuth, elevation
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A regular capture grid: ``shape = (nx, ny)`` positions, ``spacing`` metres apart."""
+
+    shape: tuple[int, int]
+    spacing: float
+    origin: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if self.shape[0] < 1 or self.shape[1] < 1:
+            raise ValueError(f"grid shape must be positive, got {self.shape}")
+        if not self.spacing > 0:
+            raise ValueError(f"grid spacing must be positive, got {self.spacing}")
+
+    @property
+    def size(self) -> int:
+        return self.shape[0] * self.shape[1]
+
+    def position(self, i: ArrayLike, j: ArrayLike) -> FloatArray:
+        """World position (x, y) in metres of grid index (i, j); shape (..., 2)."""
+        x = self.origin[0] + np.asarray(i, dtype=np.float64) * self.spacing
+        y = self.origin[1] + np.asarray(j, dtype=np.float64) * self.spacing
+        return np.stack(np.broadcast_arrays(x, y), axis=-1)
+
+    def nearest_index(self, xy: ArrayLike) -> NDArray[np.int64]:
+        """Nearest grid index (i, j) of world points (shape (..., 2)), clipped to the grid."""
+        p = np.asarray(xy, dtype=np.float64)
+        ij = np.rint((p - np.asarray(self.origin)) / self.spacing).astype(np.int64)
+        return np.clip(ij, 0, np.asarray(self.shape) - 1)
+
+    def contains(self, i: int, j: int) -> bool:
+        return 0 <= i < self.shape[0] and 0 <= j < self.shape[1]
+
+    def indices(self) -> Iterator[tuple[int, int]]:
+        """All grid indices, j fastest: (0,0), (0,1), ... (nx-1, ny-1)."""
+        for i in range(self.shape[0]):
+            for j in range(self.shape[1]):
+                yield (i, j)
+
+    @property
+    def perimeter(self) -> float:
+        """Perimeter of the grid's bounding rectangle in metres."""
+        return 2.0 * ((self.shape[0] - 1) + (self.shape[1] - 1)) * self.spacing
+
+    def pose(self, i: int, j: int, heading: float = 0.0) -> Pose:
+        x, y = self.position(i, j)
+        return Pose(float(x), float(y), heading)
+
+
+def grid_key(i: int, j: int) -> str:
+    """The ``X_Y`` key of a grid position, as in Vardy's file names."""
+    return f"{i}_{j}"
+
+
+def parse_grid_key(key: str) -> tuple[int, int]:
+    """Inverse of :func:`grid_key`; raises ValueError on anything else."""
+    a, b = key.split("_")
+    return int(a), int(b)
+
+
+def home_direction(current_xy: ArrayLike, goal_xy: ArrayLike, heading: ArrayLike) -> FloatArray:
+    """True home direction: azimuth of the goal seen from the current pose (shape (...))."""
+    return world_to_robot(world_direction(current_xy, goal_xy), heading)
+
+
+# --------------------------------------------------------------------------- camera models
+
+
+def _sign(direction: Direction) -> float:
+    if direction not in ("ccw", "cw"):
+        raise ValueError(f"direction must be 'ccw' or 'cw', got {direction!r}")
+    return 1.0 if direction == "ccw" else -1.0
+
+
+@dataclass(frozen=True)
+class PanoramaGeometry:
+    """An unfolded (cylindrical, equiangular) panorama of ``width`` x ``height`` pixels."""
+
+    width: int
+    height: int
+    elevation_top: float
+    elevation_bottom: float
+    direction: Direction = "ccw"
+    zero_column: float = 0.0
+
+    def __post_init__(self) -> None:
+        _sign(self.direction)
+        if self.width < 1 or self.height < 1:
+            raise ValueError(f"panorama size must be positive, got {self.width}x{self.height}")
+        if not self.elevation_top > self.elevation_bottom:
+            raise ValueError("elevation_top must be above elevation_bottom")
+
+    @property
+    def column_step(self) -> float:
+        """Azimuth per column, radians."""
+        return TWO_PI / self.width
+
+    @property
+    def row_step(self) -> float:
+        """Elevation per row, radians."""
+        return (self.elevation_top - self.elevation_bottom) / self.height
+
+    def column_to_azimuth(self, column: ArrayLike) -> FloatArray:
+        """Azimuth in [-pi, pi) of (fractional) columns."""
+        p = np.asarray(column, dtype=np.float64)
+        return wrap_angle(_sign(self.direction) * (p - self.zero_column) * self.column_step)
+
+    def azimuth_to_column(self, azimuth: ArrayLike) -> FloatArray:
+        """Fractional column in [0, width) of azimuths."""
+        a = wrap_positive(_sign(self.direction) * np.asarray(azimuth, dtype=np.float64))
+        return (a / self.column_step + self.zero_column) % self.width
+
+    def row_to_elevation(self, row: ArrayLike) -> FloatArray:
+        q = np.asarray(row, dtype=np.float64)
+        return self.elevation_top - (q + 0.5) * self.row_step
+
+    def elevation_to_row(self, elevation: ArrayLike) -> FloatArray:
+        e = np.asarray(elevation, dtype=np.float64)
+        return (self.elevation_top - e) / self.row_step - 0.5
+
+    @property
+    def horizon_row(self) -> float:
+        """Fractional row of elevation 0."""
+        return float(self.elevation_to_row(0.0))
+
+    def bearing_grid(self) -> tuple[FloatArray, FloatArray]:
+        """Azimuth and elevation of every pixel centre, each of shape (height, width)."""
+        az = self.column_to_azimuth(np.arange(self.width))
+        el = self.row_to_elevation(np.arange(self.height))
+        return np.broadcast_to(az, (self.height, self.width)), np.broadcast_to(
+            el[:, None], (self.height, self.width)
+        )
+
+    def columns_for_rotation(self, rotation: float) -> float:
+        """Column shift that turns this panorama's robot by ``rotation`` (radians, ccw)."""
+        return -_sign(self.direction) * rotation / self.column_step
+
+
+@dataclass(frozen=True)
+class CatadioptricGeometry:
+    """A raw catadioptric image: centre, radial profile and azimuth orientation.
+
+    ``radii`` (pixels, increasing) and ``elevations`` (radians, strictly monotone) sample the
+    mirror's radial profile; elevation is linear between samples (two samples describe an
+    equiangular mirror). The annulus between the first and last radius holds the image.
+    """
+
+    width: int
+    height: int
+    centre: tuple[float, float]
+    radii: tuple[float, ...]
+    elevations: tuple[float, ...]
+    direction: Direction = "ccw"
+    zero_angle: float = 0.0
+
+    def __post_init__(self) -> None:
+        _sign(self.direction)
+        r, e = np.asarray(self.radii), np.asarray(self.elevations)
+        if r.size < 2 or r.size != e.size:
+            raise ValueError("radii and elevations need the same length, at least 2")
+        if np.any(np.diff(r) <= 0):
+            raise ValueError("radii must increase")
+        de = np.diff(e)
+        if not (np.all(de > 0) or np.all(de < 0)):
+            raise ValueError("elevations must be strictly monotone along the radius")
+        if not (min(e) < 0 < max(e)):
+            raise ValueError("the radial profile must span the horizon (elevation 0)")
+
+    @property
+    def inner_radius(self) -> float:
+        return float(self.radii[0])
+
+    @property
+    def outer_radius(self) -> float:
+        return float(self.radii[-1])
+
+    @property
+    def up_is_outside(self) -> bool:
+        """True when points above the horizon image outside the horizon circle."""
+        return self.elevations[-1] > self.elevations[0]
+
+    @property
+    def horizon_radius(self) -> float:
+        """Radius of the horizon circle (elevation 0), pixels."""
+        return float(self.elevation_to_radius(0.0))
+
+    def radius_to_elevation(self, radius: ArrayLike) -> FloatArray:
+        """Elevation of radii (pixels); radii outside the annulus are extrapolated linearly."""
+        r = np.asarray(radius, dtype=np.float64)
+        return _interp_linear_extrapolate(r, np.asarray(self.radii), np.asarray(self.elevations))
+
+    def elevation_to_radius(self, elevation: ArrayLike) -> FloatArray:
+        e = np.asarray(elevation, dtype=np.float64)
+        radii, elev = np.asarray(self.radii), np.asarray(self.elevations)
+        order = np.argsort(elev)
+        return _interp_linear_extrapolate(e, elev[order], radii[order])
+
+    def pixel_to_bearing(self, u: ArrayLike, v: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """Azimuth and elevation of pixels (u, v) (any shapes that broadcast)."""
+        du = np.asarray(u, dtype=np.float64) - self.centre[0]
+        dv = np.asarray(v, dtype=np.float64) - self.centre[1]
+        image_angle = np.arctan2(-dv, du)  # counter-clockwise as displayed
+        azimuth = wrap_angle(_sign(self.direction) * (image_angle - self.zero_angle))
+        return azimuth, self.radius_to_elevation(np.hypot(du, dv))
+
+    def bearing_to_pixel(
+        self, azimuth: ArrayLike, elevation: ArrayLike
+    ) -> tuple[FloatArray, FloatArray]:
+        """Pixel coordinates (u, v) of bearings (any shapes that broadcast)."""
+        image_angle = self.zero_angle + _sign(self.direction) * np.asarray(
+            azimuth, dtype=np.float64
+        )
+        r = self.elevation_to_radius(elevation)
+        return self.centre[0] + r * np.cos(image_angle), self.centre[1] - r * np.sin(image_angle)
+
+    def annulus_mask(self) -> NDArray[np.bool_]:
+        """Boolean mask (height, width) of the pixels between the inner and outer radius."""
+        v, u = np.mgrid[0 : self.height, 0 : self.width]
+        r = np.hypot(u - self.centre[0], v - self.centre[1])
+        return (r >= self.inner_radius) & (r <= self.outer_radius)
+
+    def horizon_side(self, u: ArrayLike, v: ArrayLike, tolerance: float = 0.0) -> NDArray[np.int8]:
+        """Seed 001's gamma_IO (eq. 8): +1 above the horizon, -1 below, 0 within ``tolerance`` px.
+
+        "Above" means elevation > 0 whichever side of the circle the mirror images it on.
+        """
+        du = np.asarray(u, dtype=np.float64) - self.centre[0]
+        dv = np.asarray(v, dtype=np.float64) - self.centre[1]
+        offset = np.hypot(du, dv) - self.horizon_radius
+        side = np.sign(offset) * (1.0 if self.up_is_outside else -1.0)
+        return np.where(np.abs(offset) <= tolerance, 0, side).astype(np.int8)
+
+
+def _interp_linear_extrapolate(x: FloatArray, xp: FloatArray, fp: FloatArray) -> FloatArray:
+    """``np.interp`` with linear extrapolation beyond both ends (xp increasing)."""
+    y = np.interp(x, xp, fp)
+    lo_slope = (fp[1] - fp[0]) / (xp[1] - xp[0])
+    hi_slope = (fp[-1] - fp[-2]) / (xp[-1] - xp[-2])
+    y = np.where(x < xp[0], fp[0] + (x - xp[0]) * lo_slope, y)
+    return np.where(x > xp[-1], fp[-1] + (x - xp[-1]) * hi_slope, y)

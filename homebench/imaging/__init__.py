@@ -1,0 +1,1 @@
+"""Catadioptric <-> unfolded panorama, horizon extraction, image filters."""

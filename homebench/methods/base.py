@@ -1,0 +1,67 @@
+"""What a homing method is: views in, features out, two features in, an estimate out.
+
+Methods are pure: they know nothing of files, configs or jobs. A method is a frozen dataclass
+whose fields are its parameters (with the papers' defaults), registered under a name with
+:func:`homebench.methods.registry.register`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
+
+ImageKind = Literal["raw", "unfolded"]
+
+
+@dataclass(frozen=True)
+class View:
+    """One grey-level image (shape (height, width), uint8) with the camera model that made it."""
+
+    image: NDArray[np.uint8]
+    geometry: PanoramaGeometry | CatadioptricGeometry
+
+    @property
+    def kind(self) -> ImageKind:
+        return "raw" if isinstance(self.geometry, CatadioptricGeometry) else "unfolded"
+
+
+@dataclass(frozen=True)
+class HomingEstimate:
+    """A method's answer for one (current, goal) pair.
+
+    ``angle``: home direction in the current robot frame (radians, ccw, 0 = heading), or None
+    when the method cannot decide. ``rotation``: estimated heading change from goal to current
+    (radians, ccw), or None. ``n_landmarks``: correspondences or features the estimate rests on.
+    """
+
+    angle: float | None
+    rotation: float | None = None
+    n_landmarks: int = 0
+    score: float | None = None
+    diagnostics: dict[str, Any] = field(default_factory=dict)
+
+    @classmethod
+    def none(cls, n_landmarks: int = 0, **diagnostics: Any) -> HomingEstimate:
+        """The explicit "no estimate" result (too few landmarks, no texture, ...)."""
+        return cls(angle=None, rotation=None, n_landmarks=n_landmarks, diagnostics=diagnostics)
+
+
+@runtime_checkable
+class HomingMethod(Protocol):
+    """The interface every registered method implements."""
+
+    name: ClassVar[str]
+    image_kind: ClassVar[ImageKind]
+
+    def describe(self, view: View) -> Any:
+        """Per-image features; must be picklable (they are cached and sent between workers)."""
+        ...
+
+    def home(self, current: Any, goal: Any) -> HomingEstimate:
+        """Home direction at the current view towards the goal view, from their features."""
+        ...
