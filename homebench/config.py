@@ -1,0 +1,203 @@
+"""The run config: YAML -> validated, frozen objects. Unknown keys are errors.
+
+Example (see ``configs/quickstart.yaml``)::
+
+    name: quickstart
+    output: runs/quickstart            # relative to the current directory
+    databases:                         # alias -> a database
+      original: synth-original         #   a known database name or a manifest path
+      day: {world: {variant: day, grid: {shape: [5, 7]}}}   # an inline generated world
+    conditions: [original-original, original-day]   # current views from the first, goals
+                                                    # from the second
+    goals: [[2, 3]]                    # or "all", or {random: 5, seed: 1}
+    currents: all                      # or {min_distance: 0.3, max_distance: 1.2} (metres)
+    methods:
+      - {method: warping}
+      - {method: warping, label: warping-coarse, params: {rho_steps: 10}}
+
+Checks that need the databases (a goal outside the grid) happen when the run is planned.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from homebench.data.synth.spec import WorldSpec
+from homebench.errors import ConfigError, HomebenchError
+from homebench.geometry import PanoramaGeometry
+from homebench.methods import registry
+from homebench.yamlio import load_yaml_file, validate
+
+ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class DatabaseRef(_Strict):
+    """A database of the run: a known name or manifest path (``name``), or an inline ``world``."""
+
+    name: str | None = None
+    path: Path | None = None  # root of a real set's copy (overrides the manifest's env variable)
+    world: WorldSpec | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self) -> DatabaseRef:
+        if (self.name is None) == (self.world is None):
+            raise ValueError("give exactly one of 'name' and 'world'")
+        if self.world is not None and self.path is not None:
+            raise ValueError("'path' is for named databases, not generated worlds")
+        return self
+
+
+class RandomGoals(_Strict):
+    random: int = Field(ge=1)
+    seed: int = Field(0, ge=0)
+
+
+class CurrentRange(_Strict):
+    """Current positions whose distance to the goal lies in [min_distance, max_distance] metres."""
+
+    min_distance: float = Field(0.0, ge=0)
+    max_distance: float = Field(float("inf"), gt=0)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> CurrentRange:
+        if self.max_distance < self.min_distance:
+            raise ValueError("max_distance must not be below min_distance")
+        return self
+
+
+class MethodEntry(_Strict):
+    method: str
+    label: str | None = None
+    params: dict[str, Any] = Field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        """The label shown in tables: ``label`` or the method name."""
+        return self.label or self.method
+
+
+class ReturnRatioConfig(_Strict):
+    """Seed 001's return ratio: step ``rh`` and success radius in grid units."""
+
+    rh: float = Field(0.8, gt=0)
+    success_radius: float = Field(0.5, gt=0)
+    max_travel: float | None = Field(None, gt=0)  # grid units; None: half the grid's perimeter
+
+
+class AhcConfig(_Strict):
+    bin_start_cm: float = Field(30.0, gt=0)
+    bin_stop_cm: float = Field(390.0, gt=0)
+    bin_step_cm: float = Field(30.0, gt=0)
+    missing: Literal["exclude", "orthogonal"] = "exclude"
+
+
+class MetricsConfig(_Strict):
+    ahc: AhcConfig = AhcConfig()
+    return_ratio: ReturnRatioConfig = ReturnRatioConfig()
+    catchment: bool = True
+
+
+class RotationConfig(_Strict):
+    """Rotate every current view by a random whole number of columns (seeded)."""
+
+    enabled: bool = False
+    seed: int = Field(0, ge=0)
+
+
+class UnfoldConfig(_Strict):
+    """Panorama made from raw images for methods that need unfolded views (raw-only databases)."""
+
+    width: int = Field(288, ge=16)
+    elevation_top_deg: float = Field(45.0, gt=0, lt=90)
+    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)
+
+    def geometry(self) -> PanoramaGeometry:
+        return PanoramaGeometry.square_pixels(
+            self.width,
+            math.radians(self.elevation_top_deg),
+            math.radians(self.elevation_bottom_deg),
+        )
+
+
+class RunConfig(_Strict):
+    name: str = "run"
+    output: Path
+    seed: int = Field(0, ge=0)
+    jobs: int = 1
+    databases: dict[str, DatabaseRef]
+    conditions: list[str] = Field(min_length=1)
+    goals: list[tuple[int, int]] | Literal["all"] | RandomGoals
+    currents: Literal["all"] | CurrentRange = "all"
+    methods: list[MethodEntry] = Field(min_length=1)
+    metrics: MetricsConfig = MetricsConfig()
+    rotate_current: RotationConfig = RotationConfig()
+    unfold: UnfoldConfig = UnfoldConfig()
+    table_format: Literal["csv", "parquet"] = "csv"
+
+    @field_validator("databases", mode="before")
+    @classmethod
+    def _names_as_refs(cls, value: Any) -> Any:
+        if isinstance(value, dict):
+            return {k: {"name": v} if isinstance(v, str) else v for k, v in value.items()}
+        return value
+
+    @field_validator("databases")
+    @classmethod
+    def _aliases(cls, value: dict[str, DatabaseRef]) -> dict[str, DatabaseRef]:
+        if not value:
+            raise ValueError("name at least one database")
+        bad = [alias for alias in value if not ALIAS.match(alias)]
+        if bad:
+            raise ValueError(f"aliases may hold letters, digits and '_' only: {bad}")
+        return value
+
+    @field_validator("jobs")
+    @classmethod
+    def _jobs(cls, value: int) -> int:
+        if value == 0 or value < -1:
+            raise ValueError("jobs must be a positive number, or -1 for all cores")
+        return value
+
+    @model_validator(mode="after")
+    def _references(self) -> RunConfig:
+        for k, condition in enumerate(self.conditions):
+            parts = condition.split("-")
+            if len(parts) != 2 or not all(parts):
+                raise ValueError(f"conditions[{k}]: {condition!r} is not 'current-goal'")
+            unknown = [p for p in parts if p not in self.databases]
+            if unknown:
+                raise ValueError(
+                    f"conditions[{k}]: unknown database alias {unknown[0]!r}; "
+                    f"defined: {', '.join(self.databases)}"
+                )
+        labels = [entry.name for entry in self.methods]
+        repeated = sorted({label for label in labels if labels.count(label) > 1})
+        if repeated:
+            raise ValueError(f"methods: label {repeated[0]!r} used twice; give each entry a label")
+        return self
+
+    def condition_pairs(self) -> list[tuple[str, str, str]]:
+        """(condition, current alias, goal alias) for every condition."""
+        return [(c, *c.split("-")) for c in self.conditions]
+
+
+def load_config(path: Path) -> RunConfig:
+    """Read and validate a run config; every problem is a ConfigError naming file and key."""
+    config = validate(RunConfig, load_yaml_file(path), path)
+    for k, entry in enumerate(config.methods):
+        try:
+            registry.create(entry.method, **entry.params)
+        except HomebenchError as error:
+            raise ConfigError(f"{path}: methods.{k}: {error}") from None
+        except (TypeError, ValueError) as error:
+            raise ConfigError(f"{path}: methods.{k}.params: {error}") from None
+    return config
