@@ -206,6 +206,14 @@ class PanoramaGeometry:
         if not self.elevation_top > self.elevation_bottom:
             raise ValueError("elevation_top must be above elevation_bottom")
 
+    @classmethod
+    def square_pixels(
+        cls, width: int, elevation_top: float, elevation_bottom: float
+    ) -> PanoramaGeometry:
+        """A ccw panorama whose height gives rows as tall (in angle) as columns are wide."""
+        height = max(1, round(width * (elevation_top - elevation_bottom) / TWO_PI))
+        return cls(width, height, elevation_top, elevation_bottom)
+
     @property
     def column_step(self) -> float:
         """Azimuth per column, radians."""
