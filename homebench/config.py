@@ -31,7 +31,7 @@ from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
-from homebench.yamlio import load_yaml_file, validate
+from homebench.yamlio import load_model
 
 ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
 
@@ -192,7 +192,7 @@ class RunConfig(_Strict):
 
 def load_config(path: Path) -> RunConfig:
     """Read and validate a run config; every problem is a ConfigError naming file and key."""
-    config = validate(RunConfig, load_yaml_file(path), path)
+    config = load_model(RunConfig, path, what="config")
     for k, entry in enumerate(config.methods):
         try:
             registry.create(entry.method, **entry.params)

@@ -1,0 +1,224 @@
+"""The known databases and where their files are.
+
+Known databases are the manifests in the repository's ``data_manifests/`` plus those in the
+folders listed in ``$HOMEBENCH_MANIFESTS`` (``os.pathsep``-separated; they come first, so a user
+manifest may replace a shipped one of the same name). Anything else can be named by the path of a
+manifest file, or of a folder holding a ``manifest.yaml``.
+
+Where the images are: for a real set, ``path`` if given, else the folder in the manifest's
+``source.path_env`` variable, else (for a manifest given by path) the manifest's own folder. For a
+generated set, its cache folder ``<data dir>/synth/<name>-<spec key>/``, filled only by
+:func:`ensure_generated`.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import homebench
+from homebench.data.database import GridDatabase
+from homebench.data.generate import (
+    MANIFEST_NAME,
+    Progress,
+    generate,
+    generated_root,
+    is_generated,
+)
+from homebench.data.manifest import Manifest, load_manifest
+from homebench.data.synth.spec import VARIANTS, WorldSpec
+from homebench.errors import ConfigError, DataError, MissingImagesError, UnknownDatabaseError
+
+#: The manifests shipped with the repository (the package is installed editable from it).
+SHIPPED_MANIFESTS = Path(homebench.__file__).resolve().parent.parent / "data_manifests"
+
+
+@dataclass(frozen=True)
+class CatalogEntry:
+    """A known manifest: its database name, file and content."""
+
+    name: str
+    path: Path
+    manifest: Manifest
+
+
+@dataclass(frozen=True)
+class DatabaseRow:
+    """One line of :func:`list_databases`."""
+
+    name: str
+    kind: Literal["real", "generated"]
+    location: str
+    present: bool
+    description: str
+
+
+def manifest_dirs() -> list[Path]:
+    """Folders searched for manifests: ``$HOMEBENCH_MANIFESTS`` first, then the shipped ones."""
+    extra = os.environ.get("HOMEBENCH_MANIFESTS", "")
+    dirs = [Path(d).expanduser() for d in extra.split(os.pathsep) if d]
+    return [*dirs, SHIPPED_MANIFESTS]
+
+
+def known_manifests() -> dict[str, CatalogEntry]:
+    """Every manifest in :func:`manifest_dirs`, by database name (the first folder wins)."""
+    entries: dict[str, CatalogEntry] = {}
+    for folder in manifest_dirs():
+        if not folder.is_dir():
+            continue
+        for path in sorted([*folder.glob("*.yaml"), *folder.glob("*.yml")]):
+            manifest = load_manifest(path)
+            entries.setdefault(manifest.name, CatalogEntry(manifest.name, path, manifest))
+    return entries
+
+
+def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
+    """The manifest of a database name, manifest file or database folder.
+
+    Returns the manifest and, when it was given by path, the folder it lives in.
+    """
+    candidate = Path(name_or_path).expanduser()
+    if (candidate / MANIFEST_NAME).is_file():
+        return load_manifest(candidate / MANIFEST_NAME), candidate
+    if candidate.is_file() or candidate.suffix in (".yaml", ".yml"):
+        return load_manifest(candidate), candidate.parent
+    known = known_manifests()
+    if str(name_or_path) in known:
+        return known[str(name_or_path)].manifest, None
+    if candidate.is_dir():
+        raise DataError(f"{candidate}: a database folder needs a {MANIFEST_NAME}")
+    names = ", ".join(sorted(known)) or "(none)"
+    raise UnknownDatabaseError(
+        f"unknown database {str(name_or_path)!r}; known: {names} "
+        "(or give the path of a manifest .yaml or of a database folder)"
+    )
+
+
+def resolve(name_or_path: str | Path, path: Path | None = None) -> GridDatabase:
+    """The database named by ``name_or_path``, with images in ``path`` or its usual place."""
+    manifest, own_folder = find_manifest(name_or_path)
+    if manifest.generator is not None:
+        root = _generated_location(manifest, own_folder, path)
+        if not is_generated(root, manifest.generator.spec):
+            raise DataError(
+                f"database {manifest.name!r} is not generated in {root}; "
+                f"run `homebench data generate {name_or_path}`"
+            )
+        return GridDatabase(load_manifest(root / MANIFEST_NAME), root)
+    root = _real_location(manifest, own_folder, path)
+    if not root.is_dir():
+        raise DataError(f"{root}: the folder of database {manifest.name!r} does not exist")
+    return GridDatabase(manifest, root)
+
+
+def ensure_generated(
+    name_or_path: str | Path,
+    out_dir: Path | None = None,
+    jobs: int = 1,
+    progress: Progress | None = None,
+) -> GridDatabase:
+    """Generate a generated set unless its folder is already complete; return the database."""
+    manifest, own_folder = find_manifest(name_or_path)
+    spec = _generator_spec(manifest)
+    root = _generated_location(manifest, own_folder, out_dir)
+    return _generate_into(spec, manifest.name, manifest.description, root, jobs, progress)
+
+
+def generate_variant(
+    name_or_path: str | Path,
+    variant: str,
+    out_dir: Path | None = None,
+    jobs: int = 1,
+    progress: Progress | None = None,
+) -> GridDatabase:
+    """Generate ``variant`` of a generated set's world: same seed, room, grid and cameras.
+
+    Its name swaps the set's variant suffix ("synth-original" -> "synth-day"), or appends
+    "-<variant>"; it goes to ``out_dir`` or that name's cache folder.
+    """
+    manifest, _ = find_manifest(name_or_path)
+    spec = _generator_spec(manifest)
+    if variant not in VARIANTS:
+        raise ConfigError(f"unknown variant {variant!r}; known: {', '.join(VARIANTS)}")
+    spec = WorldSpec.model_validate({**spec.model_dump(), "variant": variant})
+    stem = manifest.name.removesuffix(f"-{manifest.generator.spec.variant}")
+    name = f"{stem}-{variant}"
+    root = Path(out_dir) if out_dir is not None else generated_root(name, spec)
+    return _generate_into(spec, name, "", root, jobs, progress)
+
+
+def _generator_spec(manifest: Manifest) -> WorldSpec:
+    if manifest.generator is None:
+        raise DataError(f"database {manifest.name!r} is a real set: there is nothing to generate")
+    return manifest.generator.spec
+
+
+def _generate_into(
+    spec: WorldSpec,
+    name: str,
+    description: str,
+    root: Path,
+    jobs: int,
+    progress: Progress | None,
+) -> GridDatabase:
+    generate(spec, root, jobs, name, description=description, progress=progress)
+    return GridDatabase(load_manifest(root / MANIFEST_NAME), root)
+
+
+def _generated_location(manifest: Manifest, own_folder: Path | None, path: Path | None) -> Path:
+    """``path``, else the folder the manifest came from if it is the generation, else the cache."""
+    spec = manifest.generator.spec
+    if path is not None:
+        return Path(path).expanduser()
+    if own_folder is not None and is_generated(own_folder, spec):
+        return own_folder
+    return generated_root(manifest.name, spec)
+
+
+def _real_location(manifest: Manifest, own_folder: Path | None, path: Path | None) -> Path:
+    """``path``, else ``$path_env``, else the manifest's own folder; else DataError (says how)."""
+    if path is not None:
+        return Path(path).expanduser()
+    env = manifest.source.path_env if manifest.source else None
+    if env and os.environ.get(env):
+        return Path(os.environ[env]).expanduser()
+    if own_folder is not None:
+        return own_folder
+    how = f"set {env}=/path/to/copy or " if env else ""
+    raise DataError(
+        f"database {manifest.name!r} is a real set that homebench cannot download; "
+        f"{how}pass --path /path/to/copy"
+        + (f" (source: {manifest.source.url})" if manifest.source and manifest.source.url else "")
+    )
+
+
+def _is_present(manifest: Manifest, root: Path) -> bool:
+    """Whether every file of the database is in ``root`` (a generated set: finished there)."""
+    if manifest.generator is not None:
+        return is_generated(root, manifest.generator.spec)
+    try:
+        GridDatabase(manifest, root).check_layout()
+    except MissingImagesError:
+        return False
+    return True
+
+
+def list_databases() -> list[DatabaseRow]:
+    """One row per known database: name, kind, where its files are (or would go), present."""
+    rows = []
+    for entry in known_manifests().values():
+        m = entry.manifest
+        try:
+            if m.generator is not None:
+                root = _generated_location(m, None, None)
+            else:
+                root = _real_location(m, None, None)
+        except DataError:
+            env = m.source.path_env if m.source else None
+            location, present = (f"${env} not set" if env else "give --path"), False
+        else:
+            location, present = str(root), _is_present(m, root)
+        rows.append(DatabaseRow(m.name, m.kind, location, present, m.description))
+    return sorted(rows, key=lambda r: (r.kind, r.name))

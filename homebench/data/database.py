@@ -1,0 +1,111 @@
+"""A grid database on disk: a manifest plus the folder its file paths are relative to.
+
+Images are read on demand, one file per call, and checked against the manifest's size; every
+error names the file or the grid positions it is about.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.data.manifest import Manifest
+from homebench.errors import DataError, ImageSizeError, MissingImagesError
+from homebench.fileio import read_grey
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
+from homebench.methods.base import ImageKind, View
+
+
+class GridDatabase:
+    """Images addressed by grid index (i, j), in one or both kinds ("raw", "unfolded")."""
+
+    def __init__(self, manifest: Manifest, root: Path):
+        self.manifest = manifest
+        self.root = Path(root)
+        self.grid: Grid = manifest.to_grid()
+
+    def __repr__(self) -> str:
+        return f"GridDatabase({self.name!r}, root={str(self.root)!r})"
+
+    @property
+    def name(self) -> str:
+        return self.manifest.name
+
+    @property
+    def kinds(self) -> tuple[ImageKind, ...]:
+        return self.manifest.kinds
+
+    def geometry(self, kind: str) -> CatadioptricGeometry | PanoramaGeometry:
+        """Camera model of the images of ``kind``; DataError if the database has none."""
+        return self.manifest.geometry(kind)
+
+    def _check_position(self, i: int, j: int) -> None:
+        if not self.grid.contains(i, j):
+            nx, ny = self.grid.shape
+            raise DataError(
+                f"grid position ({i},{j}) is outside database {self.name!r}, whose grid is "
+                f"{nx} x {ny} (i in 0..{nx - 1}, j in 0..{ny - 1})"
+            )
+
+    def heading(self, i: int, j: int) -> float:
+        """World heading (radians, ccw from +x) of the images at (i, j)."""
+        self._check_position(i, j)
+        return self.manifest.heading(i, j)
+
+    def pose(self, i: int, j: int) -> Pose:
+        """Camera pose at (i, j): grid position in metres and the image heading."""
+        return self.grid.pose(i, j, self.heading(i, j))
+
+    def path(self, i: int, j: int, kind: str) -> Path:
+        """The file of (i, j): the first candidate extension that exists, else the first one."""
+        self._check_position(i, j)
+        section = self.manifest.section(kind)
+        paths = [self.root / section.relative_path(n) for n in section.file_names(i, j)]
+        return next((p for p in paths if p.is_file()), paths[0])
+
+    def image(self, i: int, j: int, kind: str) -> NDArray[np.uint8]:
+        """Grey image at (i, j), shape (height, width) uint8, read from disk now.
+
+        Raises MissingImagesError, CorruptImageError or ImageSizeError naming the file.
+        """
+        path = self.path(i, j, kind)
+        if not path.is_file():
+            raise MissingImagesError(path.parent, [(i, j)])
+        image = read_grey(path)
+        expected = self.manifest.section(kind).size
+        found = (image.shape[1], image.shape[0])
+        if found != tuple(expected):
+            raise ImageSizeError(path, tuple(expected), found)
+        return image
+
+    def view(self, i: int, j: int, kind: str) -> View:
+        """The image at (i, j) with its camera model."""
+        return View(self.image(i, j, kind), self.geometry(kind))
+
+    def missing(self, kind: str) -> list[tuple[int, int]]:
+        """Grid positions with no file of ``kind``, in grid order."""
+        return [(i, j) for i, j in self.grid.indices() if not self.path(i, j, kind).is_file()]
+
+    def check_layout(self, kinds: tuple[str, ...] | None = None) -> None:
+        """Raise MissingImagesError (naming the positions) if any image of ``kinds`` is absent."""
+        for kind in kinds or self.kinds:
+            missing = self.missing(kind)
+            if missing:
+                folder = self.root / self.manifest.section(kind).folder
+                raise MissingImagesError(folder.resolve(), missing)
+
+    def ground_truth(self) -> dict[str, Any]:
+        """The ground truth of a generated set (camera poses and the world's objects)."""
+        if self.manifest.ground_truth is None:
+            raise DataError(f"database {self.name!r} has no ground truth (it is not generated)")
+        path = self.root / self.manifest.ground_truth
+        try:
+            return json.loads(path.read_text(encoding="utf-8"))
+        except OSError as error:
+            raise DataError(f"{path}: cannot read the ground truth ({error.strerror})") from None
+        except ValueError as error:
+            raise DataError(f"{path}: the ground truth is not valid JSON ({error})") from None

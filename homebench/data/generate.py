@@ -1,0 +1,264 @@
+"""Generate a grid database from a world spec, reproducibly and never half-written.
+
+A generated folder holds ``raw/X_Y.png``, ``unfolded/X_Y.png``, ``ground_truth.json`` and
+``manifest.yaml`` (the spec, its key and every file's sha256). It is built in a temporary sibling
+folder and renamed into place at the end; the output bytes depend on the spec only, not on the
+number of jobs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, Protocol
+
+import cv2
+import numpy as np
+from joblib import Parallel, delayed, effective_n_jobs
+from numpy.typing import NDArray
+
+from homebench.data.manifest import (
+    SCHEMA_VERSION,
+    CatadioptricSection,
+    Generator,
+    GridSection,
+    ImagesSection,
+    Manifest,
+    PanoramaSection,
+    RawImages,
+    UnfoldedImages,
+    load_manifest,
+)
+from homebench.data.synth.spec import RENDERER_VERSION, WorldSpec
+from homebench.errors import ConfigError, DataError
+from homebench.fileio import atomic_directory, encode_png, write_bytes_atomic, write_text_atomic
+from homebench.geometry import grid_key
+
+MANIFEST_NAME = "manifest.yaml"
+GROUND_TRUTH_NAME = "ground_truth.json"
+IMAGE_PATTERN = "{x}_{y}.png"
+#: Tasks per worker: enough for load balancing, few enough that each worker builds the world once.
+BATCHES_PER_JOB = 4
+
+Progress = Callable[[int, int], None]
+
+
+class Renderer(Protocol):
+    """What generation needs from a renderer (the real one is homebench.data.synth.world)."""
+
+    def render_position(self, spec: WorldSpec, i: int, j: int) -> dict[str, NDArray[np.uint8]]:
+        """Images of grid position (i, j): {"raw": (h, w) uint8, "unfolded": (h, w) uint8}."""
+        ...
+
+    def ground_truth(self, spec: WorldSpec) -> dict[str, Any]:
+        """The world's ground truth, JSON-serialisable."""
+        ...
+
+
+class SynthRenderer:
+    """The built-in ray-cast renderer (imported on first use: it builds textures)."""
+
+    def render_position(self, spec: WorldSpec, i: int, j: int) -> dict[str, NDArray[np.uint8]]:
+        from homebench.data.synth.world import render_position
+
+        return render_position(spec, i, j)
+
+    def ground_truth(self, spec: WorldSpec) -> dict[str, Any]:
+        from homebench.data.synth.world import build_world
+
+        return build_world(spec).ground_truth()
+
+
+def data_dir() -> Path:
+    """Where homebench keeps data: ``$HOMEBENCH_DATA`` or ``~/.cache/homebench``."""
+    env = os.environ.get("HOMEBENCH_DATA")
+    return Path(env).expanduser() if env else Path.home() / ".cache" / "homebench"
+
+
+def generated_root(name: str, spec: WorldSpec) -> Path:
+    """Cache folder of a generated set: ``<data dir>/synth/<name>-<spec key>``."""
+    return data_dir() / "synth" / f"{name}-{spec.key()}"
+
+
+def manifest_for_spec(
+    spec: WorldSpec,
+    name: str,
+    description: str = "",
+    files: dict[str, dict[str, str | None]] | None = None,
+) -> Manifest:
+    """The manifest of a generated set: grid, heading and cameras from ``spec``.
+
+    ``files`` maps kind -> file name -> sha256 (or None); omitted kinds list no files.
+    """
+    files = files or {}
+    g = spec.to_grid()
+    raw, unfolded = spec.raw.geometry(), spec.unfolded.geometry()
+    return Manifest(
+        schema=SCHEMA_VERSION,
+        name=name,
+        description=description or f"Generated world: variant {spec.variant}, seed {spec.seed}.",
+        grid=GridSection(shape=g.shape, spacing=g.spacing, origin=_rounded(g.origin)),
+        heading_deg=spec.heading_deg,
+        images=ImagesSection(
+            raw=RawImages(
+                folder="raw",
+                pattern=IMAGE_PATTERN,
+                extensions=("png",),
+                size=(raw.width, raw.height),
+                catadioptric=CatadioptricSection.from_geometry(raw),
+                files=files.get("raw", {}),
+            ),
+            unfolded=UnfoldedImages(
+                folder="unfolded",
+                pattern=IMAGE_PATTERN,
+                extensions=("png",),
+                size=(unfolded.width, unfolded.height),
+                panorama=PanoramaSection.from_geometry(unfolded),
+                files=files.get("unfolded", {}),
+            ),
+        ),
+        generator=Generator(spec=spec, key=spec.key()),
+        ground_truth=GROUND_TRUTH_NAME,
+    )
+
+
+def _rounded(values: tuple[float, ...]) -> tuple[float, ...]:
+    """Values rounded to 1e-9 (no 1.6500000000000001 in a manifest; the check allows 1e-9)."""
+    return tuple(round(v, 9) for v in values)
+
+
+def is_generated(folder: Path, spec: WorldSpec) -> bool:
+    """True if ``folder`` holds a finished generation of ``spec`` (manifest with its key)."""
+    path = Path(folder) / MANIFEST_NAME
+    if not path.is_file():
+        return False
+    try:
+        manifest = load_manifest(path)
+    except ConfigError:
+        return False
+    return manifest.generator is not None and manifest.generator.key == spec.key()
+
+
+def generate(
+    spec: WorldSpec,
+    out_dir: Path | None = None,
+    jobs: int = 1,
+    name: str = "synth",
+    *,
+    description: str = "",
+    renderer: Renderer | None = None,
+    progress: Progress | None = None,
+) -> Path:
+    """Render every grid position of ``spec`` in both kinds into a new folder; return it.
+
+    ``out_dir`` defaults to :func:`generated_root`. A folder that already holds this spec's
+    generation is returned as it is; any other existing folder but an empty one is a DataError
+    (never overwritten). ``jobs`` follows joblib (-1 = all cores); ``progress(done, total)``
+    is called as positions finish.
+    """
+    final = Path(out_dir) if out_dir is not None else generated_root(name, spec)
+    if is_generated(final, spec):
+        return final
+    if final.exists() and (not final.is_dir() or any(final.iterdir())):
+        raise DataError(
+            f"{final}: exists but is not a finished generation of spec {spec.key()}; "
+            "remove it or choose another folder"
+        )
+    renderer = renderer or SynthRenderer()
+    try:
+        with atomic_directory(final) as tmp:
+            _build(spec, tmp, jobs, name, description, renderer, progress)
+    except DataError:
+        if is_generated(final, spec):  # another process finished the same spec first
+            return final
+        raise
+    return final
+
+
+def _build(
+    spec: WorldSpec,
+    folder: Path,
+    jobs: int,
+    name: str,
+    description: str,
+    renderer: Renderer,
+    progress: Progress | None,
+) -> None:
+    """Fill ``folder`` with images, ground truth and, last, the manifest."""
+    for kind in ("raw", "unfolded"):
+        (folder / kind).mkdir()
+    positions = list(spec.to_grid().indices())
+    n_jobs = effective_n_jobs(jobs)
+    batches = _split(positions, n_jobs * BATCHES_PER_JOB if n_jobs > 1 else 1)
+    files: dict[str, dict[str, str | None]] = {"raw": {}, "unfolded": {}}
+    done = 0
+    results = Parallel(n_jobs=n_jobs, return_as="generator")(
+        delayed(_render_batch)(renderer, spec, folder, batch, n_jobs > 1) for batch in batches
+    )
+    for batch, sums in zip(batches, results, strict=True):
+        for kind, file_name, digest in sums:
+            files[kind][file_name] = digest
+        done += len(batch)
+        if progress is not None:
+            progress(done, len(positions))
+    files = {kind: dict(sorted(names.items())) for kind, names in files.items()}
+    truth = _ground_truth(spec, renderer)
+    write_text_atomic(folder / GROUND_TRUTH_NAME, json.dumps(truth, indent=1, sort_keys=True))
+    manifest = manifest_for_spec(spec, name, description, files)
+    write_text_atomic(folder / MANIFEST_NAME, manifest.to_yaml())
+
+
+def _split(items: Sequence[tuple[int, int]], n: int) -> list[list[tuple[int, int]]]:
+    """``items`` in at most ``n`` contiguous batches of nearly equal size."""
+    size = math.ceil(len(items) / max(1, n))
+    return [list(items[k : k + size]) for k in range(0, len(items), size)]
+
+
+def _render_batch(
+    renderer: Renderer,
+    spec: WorldSpec,
+    folder: Path,
+    positions: list[tuple[int, int]],
+    in_worker: bool,
+) -> list[tuple[str, str, str]]:
+    """Render and write ``positions``; return (kind, file name, sha256) per file written."""
+    if in_worker:
+        cv2.setNumThreads(1)  # the workers already use every core
+    expected = {
+        "raw": (spec.raw.height, spec.raw.width),
+        "unfolded": (spec.unfolded.height, spec.unfolded.width),
+    }
+    written = []
+    for i, j in positions:
+        images = renderer.render_position(spec, i, j)
+        for kind, shape in expected.items():
+            image = images[kind]
+            if image.dtype != np.uint8 or image.shape != shape:
+                raise DataError(
+                    f"renderer returned a {kind} image of shape {image.shape} {image.dtype} "
+                    f"at ({i},{j}), expected {shape} uint8"
+                )
+            data = encode_png(image)
+            file_name = IMAGE_PATTERN.format(x=i, y=j)
+            write_bytes_atomic(folder / kind / file_name, data)
+            written.append((kind, file_name, hashlib.sha256(data).hexdigest()))
+    return written
+
+
+def _ground_truth(spec: WorldSpec, renderer: Renderer) -> dict[str, Any]:
+    """Camera pose of every grid position plus the world's own ground truth."""
+    poses = {}
+    for i, j in spec.to_grid().indices():
+        pose = spec.pose(i, j)
+        poses[grid_key(i, j)] = {"x": pose.x, "y": pose.y, "heading": pose.heading}
+    return {
+        "spec_key": spec.key(),
+        "renderer_version": RENDERER_VERSION,
+        "camera_height": spec.camera_height,
+        "poses": poses,
+        "world": renderer.ground_truth(spec),
+    }

@@ -1,0 +1,427 @@
+"""Database manifests: one YAML schema for real, generated and user-made grid databases.
+
+A manifest says what a folder of grid images is: the grid, the shared heading, and for each image
+kind ("raw" catadioptric, "unfolded" panorama) where the files are, their size, the camera model
+and, where known, each file's sha256. A generated set adds the generator's spec. Angles are in
+degrees in YAML and converted to geometry.py's radians by :meth:`Manifest.geometry` and
+:meth:`Manifest.heading`.
+
+Validation is strict: unknown keys, wrong types and bad values raise ConfigError naming the file,
+the line and the key path (``images.raw.size[0]``).
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+import math
+import posixpath
+import re
+import string
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from homebench.data.synth.spec import WorldSpec
+from homebench.errors import DataError
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
+from homebench.methods.base import ImageKind
+from homebench.yamlio import load_model, parse_model
+
+SCHEMA_VERSION = 1
+KINDS: tuple[ImageKind, ...] = ("raw", "unfolded")
+
+# YAML gives lists; tuples accept them (the items stay strict).
+IntPair = Annotated[tuple[int, int], Field(strict=False)]
+FloatPair = Annotated[tuple[float, float], Field(strict=False)]
+FloatSeq = Annotated[tuple[float, ...], Field(strict=False, min_length=2)]
+Sha256 = Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")]
+Name = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")]
+Direction = Literal["ccw", "cw"]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+
+def _relative_posix(value: str, what: str) -> str:
+    """Check that ``value`` is a relative path inside the database root; return it normalised."""
+    norm = posixpath.normpath(value)
+    if value.startswith("/") or "\\" in value or norm == ".." or norm.startswith("../"):
+        raise ValueError(f"{what} must be a relative path inside the database folder: {value!r}")
+    return norm
+
+
+class Source(_Strict):
+    """Where a real set comes from and which environment variable points at a local copy."""
+
+    citation: str
+    url: str | None = None
+    path_env: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")] | None = None
+
+
+class GridSection(_Strict):
+    """The capture grid: ``shape`` = [nx, ny] positions ``spacing`` metres apart."""
+
+    shape: IntPair
+    spacing: float = Field(gt=0)
+    origin: FloatPair = (0.0, 0.0)
+
+    @field_validator("shape")
+    @classmethod
+    def _positive(cls, shape: tuple[int, int]) -> tuple[int, int]:
+        if min(shape) < 1:
+            raise ValueError(f"grid shape must be at least [1, 1], got {list(shape)}")
+        return shape
+
+    def to_grid(self) -> Grid:
+        return Grid(self.shape, self.spacing, self.origin)
+
+
+class CatadioptricSection(_Strict):
+    """Raw-image camera model (see geometry.CatadioptricGeometry), angles in degrees."""
+
+    centre: FloatPair
+    radii: FloatSeq
+    elevations_deg: FloatSeq
+    direction: Direction = "ccw"
+    zero_angle_deg: float = 0.0
+
+    def geometry(self, size: tuple[int, int]) -> CatadioptricGeometry:
+        return CatadioptricGeometry(
+            width=size[0],
+            height=size[1],
+            centre=self.centre,
+            radii=self.radii,
+            elevations=tuple(math.radians(e) for e in self.elevations_deg),
+            direction=self.direction,
+            zero_angle=math.radians(self.zero_angle_deg),
+        )
+
+    @classmethod
+    def from_geometry(cls, g: CatadioptricGeometry) -> CatadioptricSection:
+        return cls(
+            centre=g.centre,
+            radii=g.radii,
+            elevations_deg=tuple(_degrees(e) for e in g.elevations),
+            direction=g.direction,
+            zero_angle_deg=_degrees(g.zero_angle),
+        )
+
+
+class PanoramaSection(_Strict):
+    """Unfolded-panorama camera model (see geometry.PanoramaGeometry), angles in degrees."""
+
+    elevation_top_deg: float
+    elevation_bottom_deg: float
+    direction: Direction = "ccw"
+    zero_column: float = 0.0
+
+    def geometry(self, size: tuple[int, int]) -> PanoramaGeometry:
+        return PanoramaGeometry(
+            width=size[0],
+            height=size[1],
+            elevation_top=math.radians(self.elevation_top_deg),
+            elevation_bottom=math.radians(self.elevation_bottom_deg),
+            direction=self.direction,
+            zero_column=self.zero_column,
+        )
+
+    @classmethod
+    def from_geometry(cls, g: PanoramaGeometry) -> PanoramaSection:
+        return cls(
+            elevation_top_deg=_degrees(g.elevation_top),
+            elevation_bottom_deg=_degrees(g.elevation_bottom),
+            direction=g.direction,
+            zero_column=g.zero_column,
+        )
+
+
+def _degrees(radians: float) -> float:
+    """Degrees rounded to 1e-9 deg, so that a round trip through radians gives back 45.0."""
+    return round(math.degrees(radians), 9)
+
+
+class ImageSection(_Strict):
+    """Where one kind of image lives (base of RawImages and UnfoldedImages).
+
+    Files are ``folder``/``pattern`` per grid position, all of one ``size`` [width, height].
+
+    ``pattern`` has the fields {x} and {y} (the grid index, format specs such as {x:02d}
+    allowed) and optionally {ext}, tried in the order of ``extensions``. ``files`` maps file
+    names (relative to ``folder``) to their sha256, or null where unknown.
+    """
+
+    folder: str = "."
+    pattern: str = "{x}_{y}.{ext}"
+    extensions: Annotated[tuple[str, ...], Field(strict=False, min_length=1)] = ("png",)
+    size: IntPair
+    files: dict[str, Sha256 | None] = {}
+
+    @field_validator("folder")
+    @classmethod
+    def _folder_inside(cls, folder: str) -> str:
+        return _relative_posix(folder, "folder")
+
+    @field_validator("extensions")
+    @classmethod
+    def _plain_extensions(cls, extensions: tuple[str, ...]) -> tuple[str, ...]:
+        for ext in extensions:
+            if not re.fullmatch(r"[A-Za-z0-9]+", ext):
+                raise ValueError(f"an extension is letters and digits without a dot, got {ext!r}")
+        return extensions
+
+    @field_validator("pattern")
+    @classmethod
+    def _pattern_fields(cls, pattern: str) -> str:
+        try:
+            fields = {f for _, f, _, _ in string.Formatter().parse(pattern) if f is not None}
+            pattern.format(x=0, y=0, ext="png")
+        except (ValueError, KeyError, IndexError) as error:
+            raise ValueError(
+                f"pattern {pattern!r} is not a valid file name pattern: {error}"
+            ) from None
+        if not {"x", "y"} <= fields or not fields <= {"x", "y", "ext"}:
+            raise ValueError(f"pattern {pattern!r} must use {{x}} and {{y}}, and may use {{ext}}")
+        _relative_posix(pattern, "pattern")
+        return pattern
+
+    @field_validator("size")
+    @classmethod
+    def _positive_size(cls, size: tuple[int, int]) -> tuple[int, int]:
+        if min(size) < 1:
+            raise ValueError(f"image size [width, height] must be positive, got {list(size)}")
+        return size
+
+    @model_validator(mode="after")
+    def _files_match_pattern(self) -> ImageSection:
+        for name in self.files:
+            if self.parse_name(name) is None:
+                raise ValueError(f"files: {name!r} does not match the pattern {self.pattern!r}")
+        return self
+
+    @property
+    def uses_ext(self) -> bool:
+        return any(f == "ext" for _, f, _, _ in string.Formatter().parse(self.pattern))
+
+    def file_names(self, i: int, j: int) -> list[str]:
+        """Candidate file names (relative to ``folder``) of grid position (i, j), in order."""
+        if not self.uses_ext:
+            return [self.pattern.format(x=i, y=j)]
+        return [self.pattern.format(x=i, y=j, ext=ext) for ext in self.extensions]
+
+    def relative_path(self, name: str) -> str:
+        """Path relative to the database root of a file ``name`` of this section."""
+        return posixpath.normpath(posixpath.join(self.folder, name))
+
+    def parse_name(self, name: str) -> tuple[int, int] | None:
+        """Grid index named by a file ``name`` (relative to ``folder``), or None."""
+        parts = []
+        for literal, field, _, _ in string.Formatter().parse(self.pattern):
+            parts.append(re.escape(literal))
+            if field in ("x", "y"):
+                parts.append(rf"(?P<{field}>\d+)")
+            elif field == "ext":
+                parts.append("(?P<ext>" + "|".join(map(re.escape, self.extensions)) + ")")
+        m = re.fullmatch("".join(parts), name)
+        if m is None:
+            return None
+        i, j = int(m["x"]), int(m["y"])
+        return (i, j) if name in self.file_names(i, j) else None
+
+    def parse_path(self, relative: str) -> tuple[int, int] | None:
+        """Grid index named by a path relative to the database root, or None."""
+        name = relative if self.folder == "." else posixpath.relpath(relative, self.folder)
+        return None if name.startswith("../") else self.parse_name(name)
+
+    @abc.abstractmethod
+    def geometry(self) -> CatadioptricGeometry | PanoramaGeometry:
+        """The camera model of these images (in geometry.py's radians)."""
+
+    @model_validator(mode="after")
+    def _camera_model_valid(self) -> ImageSection:
+        self.geometry()  # geometry.py raises ValueError for an impossible camera model
+        return self
+
+
+class RawImages(ImageSection):
+    """Raw catadioptric images."""
+
+    extensions: Annotated[tuple[str, ...], Field(strict=False, min_length=1)] = (
+        "png",
+        "pgm",
+        "jpg",
+    )
+    catadioptric: CatadioptricSection
+
+    def geometry(self) -> CatadioptricGeometry:
+        return self.catadioptric.geometry(self.size)
+
+
+class UnfoldedImages(ImageSection):
+    """Unfolded (cylindrical, equiangular) panoramas."""
+
+    folder: str = "unfolded"
+    panorama: PanoramaSection
+
+    def geometry(self) -> PanoramaGeometry:
+        return self.panorama.geometry(self.size)
+
+
+class ImagesSection(_Strict):
+    """The image kinds of a database: one or both of ``raw`` and ``unfolded``."""
+
+    raw: RawImages | None = None
+    unfolded: UnfoldedImages | None = None
+
+    @model_validator(mode="after")
+    def _at_least_one(self) -> ImagesSection:
+        if self.raw is None and self.unfolded is None:
+            raise ValueError("images needs at least one of 'raw' and 'unfolded'")
+        return self
+
+
+class Generator(_Strict):
+    """A generated set: the world spec (all fields) and the spec key its files were made with."""
+
+    spec: WorldSpec
+    key: Annotated[str, Field(pattern=r"^[0-9a-f]{16}$")] | None = None
+
+
+class Manifest(_Strict):
+    """One grid database: see the module docstring and ``data_manifests/*.yaml``."""
+
+    schema_version: Literal[1] = Field(alias="schema")
+    name: Name
+    description: str = ""
+    source: Source | None = None
+    grid: GridSection
+    heading_deg: float = 0.0
+    headings_deg: dict[str, float] = {}
+    images: ImagesSection
+    generator: Generator | None = None
+    ground_truth: str | None = None
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, populate_by_name=True)
+
+    @field_validator("ground_truth")
+    @classmethod
+    def _ground_truth_inside(cls, value: str | None) -> str | None:
+        return None if value is None else _relative_posix(value, "ground_truth")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> Manifest:
+        grid = self.grid.to_grid()
+        for key in self.headings_deg:
+            try:
+                i, j = parse_grid_key(key)
+            except ValueError:
+                raise ValueError(f"headings_deg: {key!r} is not a grid key 'X_Y'") from None
+            if not grid.contains(i, j):
+                raise ValueError(f"headings_deg: {key!r} is outside the {_shape(grid)} grid")
+        for kind in self.kinds:
+            section = self.section(kind)
+            for name in section.files:
+                if not grid.contains(*section.parse_name(name)):
+                    raise ValueError(f"images.{kind}.files: {name!r} is outside the grid")
+        if self.generator is not None:
+            self._check_generator(self.generator.spec)
+        elif self.ground_truth is not None:
+            raise ValueError("ground_truth is only for generated sets (with a generator)")
+        return self
+
+    def _check_generator(self, spec: WorldSpec) -> None:
+        """A generated set's grid, heading and cameras must be those of its spec."""
+        if not _same(self.grid.to_grid(), spec.to_grid()):
+            raise ValueError(f"grid does not match generator.spec (which gives {spec.to_grid()})")
+        if not math.isclose(self.heading_deg, spec.heading_deg) or self.headings_deg:
+            raise ValueError("heading_deg must be generator.spec.heading_deg, headings_deg empty")
+        expected = {"raw": spec.raw.geometry(), "unfolded": spec.unfolded.geometry()}
+        for kind in self.kinds:
+            if not _same(self.section(kind).geometry(), expected[kind]):
+                raise ValueError(f"images.{kind} does not match generator.spec.{kind}")
+
+    # ------------------------------------------------------------------ queries
+
+    @property
+    def kind(self) -> Literal["real", "generated"]:
+        """'generated' for a set with a generator, 'real' for captured (or user-made) sets."""
+        return "generated" if self.generator is not None else "real"
+
+    @property
+    def kinds(self) -> tuple[ImageKind, ...]:
+        """The image kinds present, in the order ("raw", "unfolded")."""
+        return tuple(k for k in KINDS if getattr(self.images, k) is not None)
+
+    def section(self, kind: str) -> RawImages | UnfoldedImages:
+        """The image section of ``kind``; DataError if the database has none."""
+        section = getattr(self.images, kind, None) if kind in KINDS else None
+        if section is None:
+            raise DataError(
+                f"database {self.name!r} has no {kind!r} images (it has: {', '.join(self.kinds)})"
+            )
+        return section
+
+    def geometry(self, kind: str) -> CatadioptricGeometry | PanoramaGeometry:
+        return self.section(kind).geometry()
+
+    def to_grid(self) -> Grid:
+        return self.grid.to_grid()
+
+    def heading(self, i: int, j: int) -> float:
+        """World heading (radians, ccw from +x) of the image at grid position (i, j)."""
+        return math.radians(self.headings_deg.get(f"{i}_{j}", self.heading_deg))
+
+    # ------------------------------------------------------------------ YAML
+
+    def to_yaml(self) -> str:
+        """The manifest as YAML, keys in schema order, short lists inline."""
+        data = self.model_dump(mode="json", by_alias=True, exclude_none=True)
+        for section in data["images"].values():
+            section["files"] = section.pop("files")  # the long list last, after the camera
+        if self.generator is not None:  # every spec field, None included: the spec is exact
+            data["generator"]["spec"] = self.generator.spec.model_dump(mode="json")
+        return yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=100)
+
+
+def _shape(grid: Grid) -> str:
+    return f"{grid.shape[0]} x {grid.shape[1]}"
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Dataclasses equal field by field, floats within 1e-9 relative / absolute."""
+    for x, y in zip(dataclasses.astuple(a), dataclasses.astuple(b), strict=True):
+        if isinstance(x, str) or isinstance(y, str):
+            if x != y:
+                return False
+        elif np.shape(x) != np.shape(y) or not np.allclose(x, y, rtol=1e-9, atol=1e-9):
+            return False
+    return True
+
+
+class _Dumper(yaml.SafeDumper):
+    """Lists of scalars inline ([10, 17]); mappings as blocks."""
+
+
+def _represent_list(dumper: yaml.SafeDumper, data: list) -> yaml.Node:
+    flow = all(not isinstance(v, dict | list) for v in data)
+    return dumper.represent_sequence("tag:yaml.org,2002:seq", data, flow_style=flow)
+
+
+_Dumper.add_representer(list, _represent_list)
+
+
+# ---------------------------------------------------------------------- loading
+
+
+def load_manifest(path: Path) -> Manifest:
+    """Read and validate a manifest file; ConfigError names the file, line and key path."""
+    return load_model(Manifest, Path(path), what="manifest")
+
+
+def parse_manifest(text: str, origin: str) -> Manifest:
+    """Validate manifest YAML ``text``; ``origin`` (a file name) starts every error message."""
+    return parse_model(Manifest, text, origin, what="manifest")
