@@ -1,0 +1,141 @@
+"""Franz et al. (1998) 1-D warping on the horizon signal.
+
+Model (seed 001, section 2, eq. 1-4): the robot left the goal H in direction ``alpha`` (goal
+robot frame) for a distance ``d`` and turned by ``psi`` (ccw, goal heading -> current heading);
+all landmarks lie at one distance ``r`` from H, ``rho = d / r``. A landmark seen at azimuth
+``theta`` from H is seen at ``theta'`` from the current place C with
+``sin(psi + theta' - theta) = rho * sin(psi + theta' - alpha)`` (eq. 2). Solved for ``theta``
+(the branch on the ray's forward side, valid for rho < 1):
+``theta = phi - arcsin(rho * sin(phi - alpha))`` with ``phi = theta' + psi``. So the goal signal
+warped by (rho, alpha) and rotated by psi predicts the current signal; the search minimises the
+sum of squared differences and the home direction is ``beta = alpha - psi + pi`` (eq. 4), in the
+current robot frame.
+
+Speed: the warp depends on (rho, alpha) only through ``phi``, so the goal signal is warped once
+per (rho, alpha) (precomputed index tables) and psi becomes a circular shift: all shifts are one
+matrix product with the circulant of the current signal.
+
+``rho = 0`` (no displacement found) carries no direction: the estimate then has ``angle=None``
+(counted as "no estimate") but keeps the rotation. A texture-less signal gives
+:meth:`HomingEstimate.none`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.errors import ConfigError
+from homebench.geometry import TWO_PI, wrap_angle
+from homebench.imaging.horizon import horizon_signal
+from homebench.methods.base import HomingEstimate, ImageKind, View
+from homebench.methods.registry import register
+
+FloatArray = NDArray[np.float64]
+
+#: Relative spread below which a signal counts as texture-less.
+FLAT_TOLERANCE = 1e-9
+
+
+def is_flat(signal: FloatArray) -> bool:
+    """True when ``signal`` (any shape) has no texture to match (spread ~ 0)."""
+    return bool(np.ptp(signal) <= FLAT_TOLERANCE * (1.0 + np.max(np.abs(signal))))
+
+
+@lru_cache(maxsize=8)
+def warp_tables(
+    n_columns: int, rho: tuple[float, ...], n_alpha: int
+) -> tuple[NDArray[np.intp], FloatArray]:
+    """Linear-interpolation tables of the warped goal signal.
+
+    Returns ``(low, frac)``, each of shape (n_rho * n_alpha, n_columns): the warped signal at
+    canonical column k (azimuth ``phi = 2*pi*k/n``) for ``(rho[r], alpha[a])`` (row
+    ``r * n_alpha + a``) is ``(1 - frac) * goal[low] + frac * goal[(low + 1) % n]``.
+    """
+    phi = TWO_PI * np.arange(n_columns) / n_columns
+    alpha = TWO_PI * np.arange(n_alpha) / n_alpha
+    r = np.asarray(rho)[:, None, None]
+    theta = phi[None, None, :] - np.arcsin(r * np.sin(phi[None, None, :] - alpha[None, :, None]))
+    position = (theta * (n_columns / TWO_PI)) % n_columns
+    low = np.floor(position).astype(np.intp)
+    frac = position - low
+    shape = (len(rho) * n_alpha, n_columns)
+    return (low % n_columns).reshape(shape), frac.reshape(shape)
+
+
+@register
+@dataclass(frozen=True)
+class Warping:
+    """1-D warping; defaults: seed 001 Table 1 (rho in [0, 0.95] in 20 steps, alpha/psi 5 deg).
+
+    ``n_columns`` = 72 puts one column per psi step (5 deg) and averages four columns of a
+    288-column panorama, the low-pass Franz et al. apply before warping. The 1-D signal is the
+    mean of the rows within +-``band_half_width_deg`` (5 deg) of the horizon: enough rows to
+    average out noise and a slight tilt, narrow enough to stay where the landmarks' equal-distance
+    model holds best (walls and objects at camera height rather than floor and ceiling).
+    """
+
+    name: ClassVar[str] = "warping"
+    image_kind: ClassVar[ImageKind] = "unfolded"
+
+    n_rho: int = 20
+    rho_max: float = 0.95
+    n_alpha: int = 72
+    n_psi: int = 72
+    n_columns: int = 72
+    band_half_width_deg: float = 5.0
+
+    def __post_init__(self) -> None:
+        if self.n_rho < 2 or not 0.0 < self.rho_max < 1.0:
+            raise ConfigError("warping: need n_rho >= 2 and 0 < rho_max < 1")
+        if self.n_alpha < 1 or self.n_psi < 1 or self.n_columns % self.n_psi:
+            raise ConfigError("warping: n_columns must be a multiple of n_psi (psi = whole shifts)")
+        if not 0.0 < self.band_half_width_deg < 90.0:
+            raise ConfigError("warping: band_half_width_deg must be in (0, 90)")
+
+    @property
+    def rho(self) -> tuple[float, ...]:
+        """Searched rho values: 0 .. rho_max in n_rho steps."""
+        return tuple(np.linspace(0.0, self.rho_max, self.n_rho).tolist())
+
+    def describe(self, view: View) -> FloatArray:
+        """The 1-D horizon signal (n_columns,), grey levels, canonical column order."""
+        return horizon_signal(
+            view.image, view.geometry, np.radians(self.band_half_width_deg), self.n_columns
+        )
+
+    def costs(self, current: FloatArray, goal: FloatArray) -> FloatArray:
+        """Sum of squared differences for every (rho, alpha, psi): shape (n_rho, n_alpha, n_psi)."""
+        n = self.n_columns
+        low, frac = warp_tables(n, self.rho, self.n_alpha)
+        warped = (1.0 - frac) * goal[low] + frac * goal[(low + 1) % n]  # (n_rho*n_alpha, n)
+        step = n // self.n_psi
+        # circulant[k, p] = current[k - p * step]: predicted current(theta') = warped(theta' + psi)
+        circulant = current[(np.arange(n)[:, None] - step * np.arange(self.n_psi)[None, :]) % n]
+        cross = warped @ circulant
+        ssd = np.sum(current**2) + np.sum(warped**2, axis=1)[:, None] - 2.0 * cross
+        return np.maximum(ssd, 0.0).reshape(self.n_rho, self.n_alpha, self.n_psi)
+
+    def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
+        """Home direction beta = alpha - psi + pi at the best (rho, alpha, psi)."""
+        if current.shape != goal.shape or current.shape != (self.n_columns,):
+            raise ValueError(f"warping: features must have shape ({self.n_columns},)")
+        if is_flat(current) or is_flat(goal):
+            return HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
+        cost = self.costs(current, goal)
+        r, a, p = np.unravel_index(int(np.argmin(cost)), cost.shape)
+        rho = self.rho[r]
+        alpha = TWO_PI * a / self.n_alpha
+        psi = float(wrap_angle(TWO_PI * p / self.n_psi))
+        angle = None if r == 0 else float(wrap_angle(alpha - psi + np.pi))
+        return HomingEstimate(
+            angle=angle,
+            rotation=psi,
+            n_landmarks=self.n_columns,
+            score=float(cost[r, a, p]),
+            diagnostics={"rho": rho, "alpha": float(alpha), "psi": psi},
+        )

@@ -1,0 +1,146 @@
+"""Möller's min-warping: search against brute force, sign convention, rotation, degenerate inputs.
+
+Tolerance of the home direction on the arena world: 15 deg, as for 1-D warping (alpha and psi
+in 3.75 deg steps, scales quantised to 9 planes); errors measured on these pairs stay below
+about 8 deg.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from synthetic_panorama import home_errors, render, rolled
+
+from homebench.errors import ConfigError
+from homebench.geometry import Pose, angular_error
+from homebench.methods import registry
+from homebench.methods.min_warping import MinWarping, magnification_matrix, search_runs
+
+TOLERANCE = math.radians(15.0)
+STEP = 2.0 * math.pi / 96  # one alpha / psi step of the default method
+GOAL = Pose(0.2, -0.3, 0.4)
+
+
+def _admissible(n: int, n_scales: int, max_scale: float) -> list[set[tuple[int, int]]]:
+    """Per goal offset x: the (plane, current offset) pairs some rho >= 0 reaches (brute force)."""
+    h = (n_scales - 1) // 2
+    out = []
+    for x_col in range(n):
+        x = 2.0 * math.pi * x_col / n
+        pairs = set()
+        for rho in np.linspace(0.0, 1.0 + max_scale, 30001):
+            landmark = np.array([math.cos(x) - rho, math.sin(x)])  # seen from C, r = 1
+            distance = float(np.hypot(*landmark))
+            if distance < 1e-6:
+                continue
+            plane = round(h * math.log(1.0 / distance) / math.log(max_scale))
+            if abs(plane) <= h:
+                y = math.atan2(landmark[1], landmark[0])
+                pairs.add((plane + h, round(y * n / (2.0 * math.pi)) % n))
+        out.append(pairs)
+    return out
+
+
+def test_fast_search_equals_the_brute_force_minimum():
+    n, n_scales = 16, 5
+    method = MinWarping(n_columns=n, n_scales=n_scales)
+    distances = np.random.default_rng(1).uniform(0.0, 100.0, (n_scales, n, n)).astype(np.float32)
+    admissible = _admissible(n, n_scales, 2.0)
+    expected = np.zeros((n, n))
+    for a in range(n):
+        for p in range(n):
+            expected[a, p] = sum(
+                min(distances[k, (x + a) % n, (y + a - p) % n] for k, y in admissible[x])
+                for x in range(n)
+            )
+    np.testing.assert_allclose(method.costs(distances), expected, rtol=1e-6)
+
+
+def test_every_goal_column_may_stay_put_on_the_unit_scale_plane():
+    runs = search_runs(96, 9, 2.0)
+    for row, x in enumerate(runs.x):
+        covered = [
+            (runs.plane[row, q], (runs.start[row, q] + t) % 96)
+            for q in range(runs.count[row])
+            for t in range(runs.length[row, q])
+        ]
+        assert (4, x) in covered
+        assert len(covered) == len(set(covered))  # runs do not overlap
+
+
+def test_magnification_matrix():
+    elevations = np.radians(np.linspace(14.0, -14.0, 15))
+    np.testing.assert_allclose(magnification_matrix(elevations, 1.0), np.eye(15), atol=1e-12)
+    column = np.tan(elevations)  # an object of linear height profile
+    magnified = magnification_matrix(elevations, 2.0) @ column
+    np.testing.assert_allclose(magnified, column / 2.0, atol=2e-3)
+
+
+def test_distance_planes_below_one_mirror_those_above():
+    method = MinWarping()
+    a = method.describe(render(GOAL))
+    b = method.describe(render(Pose(1.0, 0.5, 2.0)))
+    forward, backward = method.distance_stack(a, b), method.distance_stack(b, a)
+    np.testing.assert_allclose(forward, backward[::-1].transpose(0, 2, 1), rtol=1e-5, atol=1e-2)
+
+
+@pytest.mark.parametrize(
+    ("dx", "dy"), [(0.6, 0.0), (-0.6, 0.0), (0.0, 0.6), (0.0, -0.6), (1.0, 0.7), (-1.2, -0.5)]
+)
+@pytest.mark.parametrize("heading", [0.4, -2.0])
+def test_home_direction_along_x_and_y(dx, dy, heading):
+    current = Pose(GOAL.x + dx, GOAL.y + dy, heading)
+    angle_error, rotation_error, _ = home_errors(MinWarping(), GOAL, current)
+    assert angle_error is not None and angle_error < TOLERANCE
+    assert rotation_error is not None and rotation_error <= STEP
+
+
+@pytest.mark.parametrize("rotation_deg", [30.0, -97.5, 180.0])
+def test_a_current_view_turned_on_the_spot_keeps_the_right_direction(rotation_deg):
+    current = Pose(GOAL.x - 0.5, GOAL.y + 0.7, 1.0)
+    rotation = math.radians(rotation_deg)
+    angle_error, rotation_error, _ = home_errors(MinWarping(), GOAL, current, rotation)
+    assert angle_error is not None and angle_error < TOLERANCE
+    assert rotation_error is not None and rotation_error <= STEP
+
+
+@pytest.mark.parametrize("k", [1, 13, 48, 95])
+def test_psi_recovers_a_roll_by_whole_steps_without_a_direction(k):
+    method = MinWarping()
+    goal_view = render(GOAL)
+    # canonical columns are ccw: rolling the image right by 3 columns = turning cw by one step
+    estimate = method.home(method.describe(rolled(goal_view, 3 * k)), method.describe(goal_view))
+    assert angular_error(estimate.rotation, -k * STEP) < 1e-9
+    assert estimate.angle is None  # a pure rotation: no (alpha, psi) explains it better
+
+
+def test_a_textureless_view_gives_no_estimate_and_no_nan():
+    method = MinWarping()
+    flat = np.full((5, 16, 96), 90.0, dtype=np.float32)
+    textured = method.describe(render(GOAL))
+    for current, goal in [(flat, textured), (textured, flat), (flat, flat)]:
+        estimate = method.home(current, goal)
+        assert estimate.angle is None and estimate.rotation is None
+
+
+def test_describe_gives_the_magnified_band_stack():
+    features = MinWarping().describe(render(GOAL))
+    assert features.shape == (5, 16, 96) and features.dtype == np.float32
+    assert np.all(np.isfinite(features))
+
+
+def test_registered_with_moller_defaults():
+    method = registry.create("min-warping")
+    assert isinstance(method, MinWarping)
+    np.testing.assert_allclose(method.scales[[0, 4, 8]], [0.5, 1.0, 2.0])
+
+
+@pytest.mark.parametrize(
+    "params",
+    [{"n_scales": 8}, {"max_scale": 1.0}, {"band_bottom_deg": 2.0}, {"n_columns": 2}],
+)
+def test_bad_parameters_are_config_errors(params):
+    with pytest.raises(ConfigError):
+        MinWarping(**params)

@@ -1,0 +1,137 @@
+"""Franz's 1-D warping: the warp model, the sign convention, rotation, degenerate inputs.
+
+Tolerance of the home direction on the arena world: 15 deg. Alpha and psi are searched in 5 deg
+steps (up to 2.5 deg of quantisation each, both enter beta = alpha - psi + pi), and the arena
+violates the equal-distance assumption (wall 2-4 m from the goal), which bends the estimate by a
+few more degrees; errors measured on these pairs stay below about 10 deg.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from synthetic_panorama import home_errors, render, rolled
+
+from homebench.errors import ConfigError
+from homebench.geometry import Pose, angular_error, home_direction
+from homebench.methods import registry
+from homebench.methods.warping import Warping, warp_tables
+
+TOLERANCE = math.radians(15.0)
+STEP = math.radians(5.0)  # one psi step: the rotation is found to within one step
+GOAL = Pose(0.2, -0.3, 0.4)
+
+
+def _ring_texture(theta: np.ndarray) -> np.ndarray:
+    return np.cos(2.0 * theta + 0.4) + 0.6 * np.sin(3.0 * theta) + 0.3 * np.cos(theta)
+
+
+def _equal_distance_signals(rho: float, alpha: float, psi: float, n: int):
+    """Goal and current 1-D signals of landmarks on the unit circle around the goal.
+
+    Goal at the origin, heading 0; current at rho * (cos alpha, sin alpha), heading psi. The
+    current signal is ray-traced (ray-circle intersection), independent of eq. 2.
+    """
+    azimuth = 2.0 * np.pi * np.arange(n) / n
+    world = azimuth + psi
+    cx, cy = rho * math.cos(alpha), rho * math.sin(alpha)
+    along = cx * np.cos(world) + cy * np.sin(world)
+    t = -along + np.sqrt(along**2 - (cx**2 + cy**2) + 1.0)
+    theta = np.arctan2(cy + t * np.sin(world), cx + t * np.cos(world))
+    return _ring_texture(theta), _ring_texture(azimuth), (cx, cy)
+
+
+@pytest.mark.parametrize(
+    ("r", "a", "p"), [(6, 0, 0), (10, 9, 20), (4, 30, 60), (15, 50, 5), (19, 71, 36)]
+)
+def test_search_recovers_the_parameters_of_an_equal_distance_world(r, a, p):
+    method = Warping()
+    rho, alpha, psi = method.rho[r], 2 * np.pi * a / 72, 2 * np.pi * p / 72
+    current, goal, xy = _equal_distance_signals(rho, alpha, psi, 72)
+    estimate = method.home(current, goal)
+    assert estimate.diagnostics["rho"] == pytest.approx(rho)
+    assert estimate.diagnostics["alpha"] == pytest.approx(alpha)
+    assert angular_error(estimate.rotation, psi) < 1e-9
+    truth = home_direction(xy, (0.0, 0.0), psi)
+    assert angular_error(estimate.angle, truth) < 1e-9
+
+
+def test_warp_tables_at_rho_zero_reproduce_the_goal_for_every_alpha():
+    goal = np.random.default_rng(3).normal(size=72)
+    low, frac = warp_tables(72, (0.0, 0.5), 8)
+    warped = (1.0 - frac) * goal[low] + frac * goal[(low + 1) % 72]
+    np.testing.assert_allclose(warped[:8], np.tile(goal, (8, 1)), atol=1e-9)
+    assert np.max(np.abs(warped[8:] - goal)) > 0.5  # rho = 0.5 does warp
+
+
+@pytest.mark.parametrize(
+    ("dx", "dy"), [(0.6, 0.0), (-0.6, 0.0), (0.0, 0.6), (0.0, -0.6), (1.0, 0.7), (-1.2, -0.5)]
+)
+@pytest.mark.parametrize("heading", [0.4, -2.0])
+def test_home_direction_along_x_and_y(dx, dy, heading):
+    current = Pose(GOAL.x + dx, GOAL.y + dy, heading)
+    angle_error, rotation_error, _ = home_errors(Warping(), GOAL, current)
+    assert angle_error is not None and angle_error < TOLERANCE
+    assert rotation_error is not None and rotation_error <= STEP
+
+
+@pytest.mark.parametrize("rotation_deg", [35.0, -100.0, 180.0])
+def test_a_current_view_turned_on_the_spot_keeps_the_right_direction(rotation_deg):
+    current = Pose(GOAL.x - 0.5, GOAL.y + 0.7, 1.0)
+    rotation = math.radians(rotation_deg)
+    angle_error, rotation_error, _ = home_errors(Warping(), GOAL, current, rotation)
+    assert angle_error is not None and angle_error < TOLERANCE
+    assert rotation_error is not None and rotation_error <= STEP
+
+
+@pytest.mark.parametrize("k", [1, 7, 40, 71])
+def test_psi_recovers_a_roll_by_whole_steps_and_rho_zero_gives_no_direction(k):
+    method = Warping()
+    goal_view = render(GOAL)
+    # canonical columns are ccw: rolling the image right by 4 columns = turning cw by 5 deg
+    current = method.describe(rolled(goal_view, 4 * k))
+    estimate = method.home(current, method.describe(goal_view))
+    assert angular_error(estimate.rotation, -k * math.radians(5.0)) < 1e-9
+    assert estimate.diagnostics["rho"] == 0.0
+    assert estimate.angle is None
+
+
+def test_identical_views_give_no_direction_and_no_rotation():
+    method = Warping()
+    signal = method.describe(render(GOAL))
+    estimate = method.home(signal, signal)
+    assert estimate.angle is None and estimate.rotation == 0.0
+    assert estimate.score == pytest.approx(0.0, abs=1e-6)
+
+
+def test_a_textureless_view_gives_no_estimate_and_no_nan():
+    method = Warping()
+    flat = np.full(72, 90.0)
+    textured = method.describe(render(GOAL))
+    for current, goal in [(flat, textured), (textured, flat), (flat, flat)]:
+        estimate = method.home(current, goal)
+        assert estimate.angle is None and estimate.rotation is None
+        assert estimate.n_landmarks == 72
+
+
+def test_describe_gives_the_canonical_horizon_signal():
+    signal = Warping(n_columns=360, n_psi=72).describe(render(GOAL))
+    assert signal.shape == (360,)
+    assert np.all(np.isfinite(signal))
+
+
+def test_registered_with_table_1_defaults():
+    method = registry.create("warping")
+    assert isinstance(method, Warping)
+    assert (method.n_rho, method.rho_max, method.n_alpha, method.n_psi) == (20, 0.95, 72, 72)
+    assert method.rho[1] == pytest.approx(0.05)
+
+
+@pytest.mark.parametrize(
+    "params", [{"n_columns": 100}, {"rho_max": 1.0}, {"n_rho": 1}, {"band_half_width_deg": 0.0}]
+)
+def test_bad_parameters_are_config_errors(params):
+    with pytest.raises(ConfigError):
+        Warping(**params)
