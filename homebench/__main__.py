@@ -1,0 +1,5 @@
+"""``python -m homebench`` runs the command line."""
+
+from homebench.cli import main
+
+main()

@@ -1,0 +1,198 @@
+"""Planning: a validated run config -> independent describe and home jobs with stable keys.
+
+Two kinds of job:
+
+- a **describe job** computes one method's features for a batch of images and writes one
+  feature file per image, keyed by (method, parameters, database identity, position, rotation);
+  every home job that needs an image reuses its file;
+- a **home job** runs one method for one goal and all its current positions of one condition,
+  and writes one result file keyed by a hash of everything that determines its rows.
+
+Jobs carry database *sources* (paths and identities), never image arrays, so they travel cheaply
+to worker processes or a cluster.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from homebench.config import RunConfig
+from homebench.errors import ConfigError
+from homebench.evaluation.sources import Source
+from homebench.geometry import Grid
+from homebench.hashing import derived_seed, stable_hash
+from homebench.methods import registry
+from homebench.methods.base import ImageKind
+
+#: Images per describe job: large enough to amortise process hand-over, small enough to balance.
+DESCRIBE_BATCH = 8
+
+
+@dataclass(frozen=True)
+class MethodSpec:
+    """One method entry of the config: table label, registered name and parameters."""
+
+    label: str
+    method: str
+    params: tuple[tuple[str, Any], ...]
+
+    @property
+    def key(self) -> str:
+        return stable_hash({"method": self.method, "params": dict(self.params)})
+
+    @property
+    def image_kind(self) -> ImageKind:
+        return registry.get(self.method).image_kind
+
+    def create(self) -> Any:
+        return registry.create(self.method, **dict(self.params))
+
+
+@dataclass(frozen=True)
+class ImageTask:
+    """One image as a method sees it: database, grid position, rotation (radians, ccw)."""
+
+    source: Source
+    i: int
+    j: int
+    rotation: float = 0.0
+
+    def feature_path(self, run_dir: Path, method: MethodSpec) -> Path:
+        rotation = f"_r{round(math.degrees(self.rotation) * 1000)}" if self.rotation else ""
+        name = f"{self.i}_{self.j}{rotation}.pkl"
+        return run_dir / "features" / method.key / self.source.identity / name
+
+
+@dataclass(frozen=True)
+class DescribeJob:
+    method: MethodSpec
+    images: tuple[ImageTask, ...]
+
+    @property
+    def key(self) -> str:
+        return stable_hash(
+            {
+                "method": self.method.key,
+                "images": [(t.source.identity, t.i, t.j, t.rotation) for t in self.images],
+            }
+        )
+
+
+@dataclass(frozen=True)
+class HomeJob:
+    """One method, one goal, all current positions of one condition."""
+
+    condition: str
+    method: MethodSpec
+    goal: ImageTask
+    currents: tuple[ImageTask, ...]
+
+    @property
+    def key(self) -> str:
+        return stable_hash(
+            {
+                "condition": self.condition,
+                "method": self.method.key,
+                "goal": (self.goal.source.identity, self.goal.i, self.goal.j),
+                "currents": [(t.source.identity, t.i, t.j, t.rotation) for t in self.currents],
+            }
+        )
+
+    def result_path(self, run_dir: Path) -> Path:
+        return run_dir / "jobs" / f"{self.key}.json"
+
+
+@dataclass(frozen=True)
+class Plan:
+    describe: tuple[DescribeJob, ...]
+    home: tuple[HomeJob, ...]
+
+
+def select_goals(config: RunConfig, grid: Grid, source: Path | str) -> list[tuple[int, int]]:
+    """The goal positions of the config, checked against the grid (ConfigError naming the key)."""
+    if config.goals == "all":
+        return list(grid.indices())
+    if isinstance(config.goals, list):
+        for k, (i, j) in enumerate(config.goals):
+            if not grid.contains(i, j):
+                raise ConfigError(
+                    f"{source}: goals.{k}: ({i}, {j}) is outside the "
+                    f"{grid.shape[0]} x {grid.shape[1]} grid"
+                )
+        return [tuple(g) for g in config.goals]
+    positions = list(grid.indices())
+    if config.goals.random > len(positions):
+        raise ConfigError(
+            f"{source}: goals.random: {config.goals.random} goals asked, "
+            f"the grid has {len(positions)} positions"
+        )
+    rng = np.random.default_rng(config.goals.seed)
+    chosen = rng.choice(len(positions), size=config.goals.random, replace=False)
+    return [positions[k] for k in sorted(chosen)]
+
+
+def select_currents(config: RunConfig, grid: Grid, goal: tuple[int, int]) -> list[tuple[int, int]]:
+    """Current positions for a goal: all but the goal itself, within the distance range."""
+    goal_xy = grid.position(*goal)
+    low, high = (
+        (0.0, math.inf)
+        if config.currents == "all"
+        else (
+            config.currents.min_distance,
+            config.currents.max_distance,
+        )
+    )
+    chosen = []
+    for i, j in grid.indices():
+        distance = float(np.hypot(*(grid.position(i, j) - goal_xy)))
+        if (i, j) != goal and low - 1e-9 <= distance <= high + 1e-9:
+            chosen.append((i, j))
+    return chosen
+
+
+def rotation_of(config: RunConfig, source: Source, i: int, j: int, columns: int) -> float:
+    """The seeded whole-column rotation (radians) of a current view, or 0 when disabled."""
+    if not config.rotate_current.enabled:
+        return 0.0
+    k = int(np.random.default_rng(derived_seed(config.rotate_current.seed, source.identity, i, j))
+            .integers(columns))  # fmt: skip
+    return 2.0 * math.pi * k / columns
+
+
+def make_plan(config: RunConfig, sources: dict[str, Source], config_path: Path | str) -> Plan:
+    """All jobs of a run, in a deterministic order."""
+    methods = [
+        MethodSpec(e.name, e.method, tuple(sorted(e.params.items()))) for e in config.methods
+    ]
+    home: list[HomeJob] = []
+    for condition, current_alias, goal_alias in config.condition_pairs():
+        current_src, goal_src = sources[current_alias], sources[goal_alias]
+        if current_src.grid != goal_src.grid:
+            raise ConfigError(
+                f"{config_path}: conditions: {condition!r} pairs databases with different grids "
+                f"({current_src.grid} vs {goal_src.grid})"
+            )
+        for goal in select_goals(config, goal_src.grid, config_path):
+            currents = select_currents(config, current_src.grid, goal)
+            tasks = tuple(
+                ImageTask(
+                    current_src, i, j, rotation_of(config, current_src, i, j, current_src.columns)
+                )
+                for i, j in currents
+            )
+            for method in methods:
+                home.append(HomeJob(condition, method, ImageTask(goal_src, *goal), tasks))
+    describe = []
+    for method in methods:
+        needed = sorted(
+            {t for job in home if job.method == method for t in (job.goal, *job.currents)},
+            key=lambda t: (t.source.identity, t.i, t.j, t.rotation),
+        )
+        for start in range(0, len(needed), DESCRIBE_BATCH):
+            describe.append(DescribeJob(method, tuple(needed[start : start + DESCRIBE_BATCH])))
+    return Plan(tuple(describe), tuple(home))

@@ -1,0 +1,213 @@
+"""From job files to tables: the per-pair table and the metric tables of a run folder.
+
+Everything here reads the run folder alone (``plan.json`` lists the run's home jobs, one result
+file each), so tables can be rebuilt at any time. A missing or corrupt job file is reported by
+name, never skipped silently.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from homebench.config import MetricsConfig
+from homebench.errors import DataError
+from homebench.evaluation.jobs import read_result
+from homebench.evaluation.metrics import HomeField, ae_summary, ahc, ahc_by_distance
+from homebench.evaluation.plan import Plan
+from homebench.evaluation.return_ratio import catchment, return_ratio
+from homebench.fileio import write_text_atomic
+from homebench.geometry import Grid
+
+PLAN_FILE = "plan.json"
+GROUP = ["condition", "method"]
+
+
+def write_plan_index(plan: Plan, run_dir: Path) -> None:
+    """Record which home jobs make up the run (their keys and what they are)."""
+    index = [
+        {
+            "key": job.key,
+            "condition": job.condition,
+            "method": job.method.label,
+            "goal": [job.goal.i, job.goal.j],
+        }
+        for job in plan.home
+    ]
+    write_text_atomic(run_dir / PLAN_FILE, json.dumps(index, indent=1) + "\n")
+
+
+@dataclass(frozen=True)
+class PairTable:
+    pairs: pd.DataFrame
+    missing_jobs: tuple[str, ...]  # "key (condition, method, goal)" of jobs without a result
+
+
+def load_pairs(run_dir: Path) -> PairTable:
+    """The per-pair table of a run, sorted by condition, method, goal and current position."""
+    index_path = Path(run_dir) / PLAN_FILE
+    try:
+        index = json.loads(index_path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise DataError(f"{index_path}: not a homebench run folder (no {PLAN_FILE})") from None
+    except ValueError as error:
+        raise DataError(f"{index_path}: corrupt ({error})") from None
+    frames, missing = [], []
+    for entry in index:
+        record = read_result(Path(run_dir) / "jobs" / f"{entry['key']}.json", entry["key"])
+        if record is None:
+            missing.append(
+                f"jobs/{entry['key']}.json ({entry['condition']}, {entry['method']}, "
+                f"goal {tuple(entry['goal'])})"
+            )
+            continue
+        frame = pd.DataFrame.from_records(record["rows"])
+        for column in ("condition", "method", "method_name", "goal_i", "goal_j"):
+            frame.insert(0, column, record[column])
+        frame["grid"] = json.dumps(record["grid"])
+        frames.append(frame)
+    if not frames:
+        return PairTable(pd.DataFrame(), tuple(missing))
+    pairs = pd.concat(frames, ignore_index=True)
+    pairs["ae_deg"] = np.degrees(pairs["ae"].astype(float))
+    order = ["condition", "method", "goal_i", "goal_j", "current_i", "current_j"]
+    pairs = pairs.sort_values(order, kind="stable").reset_index(drop=True)
+    leading = ["condition", "method", "method_name", "goal_i", "goal_j", "current_i", "current_j"]
+    return PairTable(
+        pairs[leading + [c for c in pairs.columns if c not in leading]], tuple(missing)
+    )
+
+
+def _grid_of(group: pd.DataFrame) -> Grid:
+    spec = json.loads(group["grid"].iloc[0])
+    return Grid(tuple(spec["shape"]), spec["spacing"], tuple(spec["origin"]))
+
+
+def goal_fields(pairs: pd.DataFrame) -> list[tuple[tuple[str, str, int, int], HomeField, bool]]:
+    """One world-frame home field per (condition, method, goal) and whether it covers the grid.
+
+    A field covers the grid when every position but the goal has a pair; return ratios of
+    fields that do not are not comparable with the paper's and are reported as NaN.
+    """
+    fields = []
+    for (condition, method, gi, gj), group in pairs.groupby(
+        ["condition", "method", "goal_i", "goal_j"], sort=True
+    ):
+        grid = _grid_of(group)
+        angles = np.full(grid.shape, np.nan)
+        estimates = group["estimate_world"].astype(float).to_numpy()
+        angles[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = estimates
+        complete = len(group) == grid.size - 1
+        fields.append(((condition, method, int(gi), int(gj)), HomeField(grid, (gi, gj), angles),
+                       complete))  # fmt: skip
+    return fields
+
+
+def goal_table(pairs: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
+    """Return ratio (and catchment) per condition, method and goal (the paper's Figure 10)."""
+    rr = metrics.return_ratio
+    rows = []
+    for (condition, method, gi, gj), field, complete in goal_fields(pairs):
+        row = {"condition": condition, "method": method, "goal_i": gi, "goal_j": gj}
+        if complete:
+            max_travel = rr.max_travel
+            row["rr"] = return_ratio(field, rr.rh, rr.success_radius, max_travel).rr
+            if metrics.catchment:
+                row["catchment"] = catchment(field).ratio
+        else:
+            row["rr"] = math.nan
+            if metrics.catchment:
+                row["catchment"] = math.nan
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
+    """AHC per distance bin for each condition and method (the paper's Figure 9)."""
+    cfg = metrics.ahc
+    bins = np.arange(cfg.bin_start_cm, cfg.bin_stop_cm + cfg.bin_step_cm / 2, cfg.bin_step_cm)
+    frames = []
+    for (condition, method), group in pairs.groupby(GROUP, sort=True):
+        table = ahc_by_distance(
+            group["ae"].astype(float), group["distance_m"].astype(float), bins, cfg.missing
+        )
+        table.insert(0, "method", method)
+        table.insert(0, "condition", condition)
+        frames.append(table)
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+
+
+def summary_table(pairs: pd.DataFrame, goals: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
+    """Method x condition headline: AE, AHC, RR, share without estimate, times."""
+    rows = []
+    for (condition, method), group in pairs.groupby(GROUP, sort=True):
+        ae = group["ae"].astype(float)
+        summary = ae_summary(ae)
+        per_goal = goals[(goals["condition"] == condition) & (goals["method"] == method)]
+        describe_ms = pd.concat([group["describe_ms"], group["goal_describe_ms"]])
+        row = {
+            "condition": condition,
+            "method": method,
+            "pairs": summary["n"],
+            "no_estimate_share": summary["missing_share"],
+            "mean_ae_deg": summary["mean_deg"],
+            "median_ae_deg": summary["median_deg"],
+            "ahc": ahc(ae, metrics.ahc.missing),
+            "rr": per_goal["rr"].mean(),
+            "describe_ms": describe_ms.mean(),
+            "home_ms": group["home_ms"].mean(),
+        }
+        if metrics.catchment:
+            row["catchment"] = per_goal["catchment"].mean()
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class RunTables:
+    pairs: pd.DataFrame
+    summary: pd.DataFrame
+    goals: pd.DataFrame
+    ahc: pd.DataFrame
+    missing_jobs: tuple[str, ...]
+
+
+def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
+    loaded = load_pairs(run_dir)
+    if loaded.pairs.empty:
+        empty = pd.DataFrame()
+        return RunTables(empty, empty, empty, empty, loaded.missing_jobs)
+    goals = goal_table(loaded.pairs, metrics)
+    return RunTables(
+        loaded.pairs,
+        summary_table(loaded.pairs, goals, metrics),
+        goals,
+        ahc_table(loaded.pairs, metrics),
+        loaded.missing_jobs,
+    )
+
+
+def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Path]:
+    """Write the tables under ``run_dir/tables`` (pairs as CSV or Parquet, the rest CSV)."""
+    folder = Path(run_dir) / "tables"
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    pairs = tables.pairs.drop(columns=["grid"], errors="ignore")
+    if table_format == "parquet":
+        path = folder / "pairs.parquet"
+        pairs.to_parquet(path.with_suffix(".parquet.tmp"), index=False)
+        path.with_suffix(".parquet.tmp").replace(path)
+    else:
+        path = folder / "pairs.csv"
+        write_text_atomic(path, pairs.to_csv(index=False, float_format="%.6g"))
+    written.append(path)
+    for name, table in (("summary", tables.summary), ("goals", tables.goals), ("ahc", tables.ahc)):
+        path = folder / f"{name}.csv"
+        write_text_atomic(path, table.to_csv(index=False, float_format="%.6g"))
+        written.append(path)
+    return written

@@ -1,0 +1,68 @@
+"""Shared test set-up: generated worlds go to a per-session cache, never the user's."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+import yaml
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _session_data_dir(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """Point HOMEBENCH_DATA at a temporary folder shared by the whole test session."""
+    patcher = pytest.MonkeyPatch()
+    patcher.setenv("HOMEBENCH_DATA", str(tmp_path_factory.mktemp("homebench-data")))
+    yield
+    patcher.undo()
+
+
+ARENA_GRID = {"shape": [4, 5], "spacing": 0.3, "origin": [-0.45, -0.6]}
+ARENA_HEADING_DEG = 30.0
+
+
+def write_arena_database(folder: Path) -> Path:
+    """A user-made unfolded-only grid database of the analytic arena; returns its manifest.
+
+    4 x 5 positions 0.3 m apart around the arena centre, every image taken at heading 30 deg.
+    """
+    from synthetic_panorama import GEOMETRY, render
+
+    from homebench.fileio import write_png
+    from homebench.geometry import Grid
+
+    grid = Grid(tuple(ARENA_GRID["shape"]), ARENA_GRID["spacing"], tuple(ARENA_GRID["origin"]))
+    (folder / "pano").mkdir(parents=True, exist_ok=True)
+    for i, j in grid.indices():
+        write_png(
+            folder / "pano" / f"p{i}-{j}.png", render(grid.pose(i, j, math.radians(30))).image
+        )
+    manifest = {
+        "schema": 1,
+        "name": "arena",
+        "description": "analytic circular arena (tests)",
+        "grid": ARENA_GRID,
+        "heading_deg": ARENA_HEADING_DEG,
+        "images": {
+            "unfolded": {
+                "folder": "pano",
+                "pattern": "p{x}-{y}.png",
+                "extensions": ["png"],
+                "size": [GEOMETRY.width, GEOMETRY.height],
+                "panorama": {
+                    "elevation_top_deg": math.degrees(GEOMETRY.elevation_top),
+                    "elevation_bottom_deg": math.degrees(GEOMETRY.elevation_bottom),
+                },
+            }
+        },
+    }
+    path = folder / "manifest.yaml"
+    path.write_text(yaml.safe_dump(manifest, sort_keys=False))
+    return path
+
+
+@pytest.fixture(scope="session")
+def arena_manifest(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_arena_database(tmp_path_factory.mktemp("arena"))

@@ -1,0 +1,180 @@
+"""`homebench run` end to end on a user-made database (the analytic arena), as a user runs it."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+import yaml
+from click.testing import CliRunner
+
+from homebench.cli import main
+
+TIME_COLUMNS = ["home_ms", "describe_ms", "goal_describe_ms"]
+
+
+def _config(tmp_path: Path, manifest: Path, **changes: object) -> Path:
+    data = {
+        "name": "arena-run",
+        "output": str(tmp_path / "run"),
+        "databases": {"arena": str(manifest)},
+        "conditions": ["arena-arena"],
+        "goals": [[1, 2], [2, 3]],
+        "methods": [
+            {"method": "warping"},
+            {"method": "warping", "label": "warping-coarse", "params": {"n_rho": 8}},
+        ],
+    }
+    data.update(changes)
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def _run(*args: str) -> tuple[int, str, str]:
+    result = CliRunner().invoke(main, ["run", *args, "--no-progress"])
+    return result.exit_code, result.stdout, result.stderr
+
+
+def _tables(run_dir: Path) -> dict[str, pd.DataFrame]:
+    tables = {}
+    for name in ("pairs", "summary", "goals", "ahc"):
+        frame = pd.read_csv(run_dir / "tables" / f"{name}.csv")
+        tables[name] = frame.drop(columns=[c for c in frame.columns if c.endswith("_ms")])
+    return tables
+
+
+def _assert_same_tables(a: Path, b: Path) -> None:
+    for name, table in _tables(a).items():
+        pd.testing.assert_frame_equal(table, _tables(b)[name], obj=name)
+
+
+def test_run_writes_tables_with_sensible_metrics(tmp_path: Path, arena_manifest: Path) -> None:
+    code, out, err = _run(str(_config(tmp_path, arena_manifest)))
+    assert code == 0, err
+    assert "mean AE [deg]" in out and "tables in" in out
+    run_dir = tmp_path / "run"
+    pairs = pd.read_csv(run_dir / "tables" / "pairs.csv")
+    assert len(pairs) == 2 * 2 * 19  # methods x goals x (20 positions - the goal)
+    assert set(pairs["method"]) == {"warping", "warping-coarse"}
+    assert (pairs["distance_m"] > 0).all()
+    assert (pairs[TIME_COLUMNS] >= 0).all().all()
+    summary = pd.read_csv(run_dir / "tables" / "summary.csv")
+    # the arena is close to warping's equal-distance assumption: errors are small
+    assert (summary["mean_ae_deg"] < 30).all()
+    assert (summary["ahc"] > 0.85).all()
+    assert (summary["rr"] > 0.8).all()
+    for name in ("config.resolved.json", "environment.json", "plan.json"):
+        assert (run_dir / name).is_file()
+
+
+def test_jobs_1_and_2_give_identical_tables(tmp_path: Path, arena_manifest: Path) -> None:
+    one, two = tmp_path / "one", tmp_path / "two"
+    one.mkdir(), two.mkdir()
+    assert _run(str(_config(one, arena_manifest)), "--jobs", "1")[0] == 0
+    assert _run(str(_config(two, arena_manifest)), "--jobs", "2")[0] == 0
+    _assert_same_tables(one / "run", two / "run")
+
+
+def test_rerun_recomputes_only_what_is_missing_or_changed(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    config = _config(tmp_path, arena_manifest)
+    assert _run(str(config))[0] == 0
+    jobs = sorted((tmp_path / "run" / "jobs").glob("*.json"))
+    assert len(jobs) == 4
+    jobs[0].unlink()
+    code, out, _ = _run(str(config))
+    assert code == 0 and "1 job(s) computed, 3 reused" in out
+    # a changed parameter of one entry recomputes only that entry's jobs
+    changed = _config(
+        tmp_path,
+        arena_manifest,
+        methods=[
+            {"method": "warping"},
+            {"method": "warping", "label": "warping-coarse", "params": {"n_rho": 6}},
+        ],
+    )
+    code, out, _ = _run(str(changed))
+    assert code == 0 and "2 job(s) computed, 2 reused" in out
+    code, out, _ = _run(str(changed), "--force")
+    assert code == 0 and "4 job(s) computed, 0 reused" in out
+
+
+def test_killed_run_resumes_to_the_same_tables(tmp_path: Path, arena_manifest: Path) -> None:
+    reference, killed = tmp_path / "reference", tmp_path / "killed"
+    reference.mkdir(), killed.mkdir()
+    changes = {"goals": "all", "methods": [{"method": "warping"}]}
+    assert _run(str(_config(reference, arena_manifest, **changes)))[0] == 0
+    config = _config(killed, arena_manifest, **changes)
+    command = [
+        sys.executable,
+        "-m",
+        "homebench",
+        "run",
+        str(config),
+        "--jobs",
+        "1",
+        "--no-progress",
+    ]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    jobs_dir = killed / "run" / "jobs"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and len(list(jobs_dir.glob("*.json"))) < 3:
+        if process.poll() is not None:
+            break
+        time.sleep(0.02)
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    finished = len(list(jobs_dir.glob("*.json")))
+    assert 0 < finished < 20, "the run should have been killed half-way"
+    code, out, err = _run(str(config))
+    assert code == 0, err
+    assert f"{20 - finished} job(s) computed, {finished} reused" in out
+    _assert_same_tables(reference / "run", killed / "run")
+
+
+def test_rotated_current_views_keep_the_home_direction(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    config = _config(tmp_path, arena_manifest, rotate_current={"enabled": True, "seed": 3})
+    code, _, err = _run(str(config))
+    assert code == 0, err
+    pairs = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
+    assert (pairs["rotation"] != 0).mean() > 0.9
+    summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv")
+    assert (summary["mean_ae_deg"] < 30).all()
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        ({"goals": [[7, 1]]}, "goals.0: (7, 1) is outside the 4 x 5 grid"),
+        ({"databases": {"arena": "no-such-db"}}, "unknown database 'no-such-db'"),
+        ({"jobs": 0}, "jobs: jobs must be a positive number"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(
+    tmp_path: Path, arena_manifest: Path, changes: dict, message: str
+) -> None:
+    code, out, err = _run(str(_config(tmp_path, arena_manifest, **changes)))
+    assert code == 2
+    assert message in err
+    assert "Traceback" not in err
+    assert not (tmp_path / "run" / "jobs").exists()
+
+
+def test_missing_image_names_the_position(tmp_path: Path, arena_manifest: Path) -> None:
+    from conftest import write_arena_database
+
+    manifest = write_arena_database(tmp_path / "broken")
+    (tmp_path / "broken" / "pano" / "p2-3.png").unlink()
+    code, _, err = _run(str(_config(tmp_path, manifest)))
+    assert code == 2
+    assert "(2,3)" in err
