@@ -152,6 +152,20 @@ def test_rotated_current_views_keep_the_home_direction(
     assert (summary["mean_ae_deg"] < 30).all()
 
 
+def test_route_method_gets_the_views_between_goal_and_current(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    config = _config(tmp_path, arena_manifest, methods=[{"method": "klt-sector"}])
+    code, _, err = _run(str(config))
+    assert code == 0, err
+    pairs = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
+    far = pairs[pairs["distance_m"] > 0.5]
+    assert (far["route_views"] > 0).all()
+    assert (pairs["distance_m"] < 0.45).sum() > 0
+    assert (pairs.loc[pairs["distance_m"] < 0.45, "route_views"] == 0).all()
+    assert pairs["ae_deg"].mean() < 15
+
+
 @pytest.mark.parametrize(
     ("changes", "message"),
     [

@@ -21,6 +21,7 @@ import numpy as np
 from homebench.errors import DataError
 from homebench.evaluation.metrics import angular_errors
 from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask, MethodSpec
+from homebench.evaluation.routes import grid_route
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import write_bytes_atomic, write_text_atomic
 from homebench.geometry import home_direction
@@ -79,16 +80,40 @@ def load_features(task: ImageTask, run_dir: Path, method: MethodSpec) -> dict[st
         raise DataError(f"{path}: corrupt feature file ({error})") from None
 
 
+class _RouteViews:
+    """Features of the grid views between goal and current, for methods that track along a
+    route (``uses_route``). Route views come from the current database (the robot's world) at
+    its stored headings; each is described once per job."""
+
+    def __init__(self, job: HomeJob, method: Any):
+        self.job, self.method = job, method
+        self.source = job.currents[0].source
+        self.step = float(getattr(method, "route_step", 0.0))
+        self.cache: dict[tuple[int, int], Any] = {}
+
+    def features(self, task: ImageTask) -> list[Any]:
+        kind = self.job.method.image_kind
+        route = grid_route(
+            self.source.grid, (self.job.goal.i, self.job.goal.j), (task.i, task.j), self.step
+        )
+        for node in route:
+            if node not in self.cache:
+                self.cache[node] = self.method.describe(load_view(self.source, *node, kind))
+        return [self.cache[node] for node in route]
+
+
 def _home(job: HomeJob, run_dir: Path) -> None:
     method = job.method.create()
     goal = load_features(job.goal, run_dir, job.method)
     current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
+    routes = _RouteViews(job, method) if getattr(method, "uses_route", False) else None
     rows = []
     for task in job.currents:
         current = load_features(task, run_dir, job.method)
+        route = {"route": routes.features(task)} if routes is not None else {}
         start = time.perf_counter()
-        estimate = method.home(current["features"], goal["features"])
+        estimate = method.home(current["features"], goal["features"], **route)
         home_ms = 1000.0 * (time.perf_counter() - start)
         heading = current_db.heading(task.i, task.j) + task.rotation
         current_xy = current_db.grid.position(task.i, task.j)
@@ -107,6 +132,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
                 "rotation_estimate": estimate.rotation,
                 "distance_m": float(np.hypot(*(goal_xy - current_xy))),
                 "n_landmarks": int(estimate.n_landmarks),
+                "route_views": len(route.get("route", ())),
                 "score": estimate.score,
                 "home_ms": home_ms,
                 "describe_ms": current["describe_ms"],

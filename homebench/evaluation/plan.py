@@ -188,9 +188,9 @@ def make_plan(config: RunConfig, sources: dict[str, Source], config_path: Path |
             for method in methods:
                 home.append(HomeJob(condition, method, ImageTask(goal_src, *goal), tasks))
     describe = []
-    for method in methods:
+    for method in {m.key: m for m in methods}.values():  # equal parameters share features
         needed = sorted(
-            {t for job in home if job.method == method for t in (job.goal, *job.currents)},
+            {t for job in home if job.method.key == method.key for t in (job.goal, *job.currents)},
             key=lambda t: (t.source.identity, t.i, t.j, t.rotation),
         )
         for start in range(0, len(needed), DESCRIBE_BATCH):

@@ -53,7 +53,13 @@ class HomingEstimate:
 
 @runtime_checkable
 class HomingMethod(Protocol):
-    """The interface every registered method implements."""
+    """The interface every registered method implements.
+
+    A method that tracks features along the way from the goal (KLT-sector) sets the class
+    attribute ``uses_route = True`` and a ``route_step`` field (grid units); its ``home`` then
+    takes ``route=``, the features of the intermediate views from the goal towards the current
+    view, which the engine supplies.
+    """
 
     name: ClassVar[str]
     image_kind: ClassVar[ImageKind]
