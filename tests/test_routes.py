@@ -16,7 +16,8 @@ def test_straight_routes_visit_every_position_in_between() -> None:
 def test_diagonal_route_is_eight_connected() -> None:
     route = grid_route(GRID, (0, 0), (3, 6), 0.5)
     path = [(0, 0), *route, (3, 6)]
-    assert all(max(abs(a[0] - b[0]), abs(a[1] - b[1])) == 1 for a, b in zip(path, path[1:]))
+    steps = zip(path, path[1:], strict=False)
+    assert all(max(abs(a[0] - b[0]), abs(a[1] - b[1])) == 1 for a, b in steps)
 
 
 def test_neighbours_and_zero_step_have_no_intermediate_positions() -> None:
