@@ -194,3 +194,45 @@ def run(config_file: Path, jobs: int | None, force: bool, no_progress: bool) -> 
         click.echo(f"homebench: job {failure.kind} {failure.key} failed: {failure.error}", err=True)
     if outcome.failures:
         sys.exit(EXIT_CRASH)
+
+
+# --------------------------------------------------------------------------- reports
+
+
+@main.command()
+@click.argument("run_dir", type=click.Path(path_type=Path))
+@click.option(
+    "--format", "formats", multiple=True, type=click.Choice(["pdf", "html", "md"]),
+    default=("pdf",), show_default=True, help="Report documents to write (repeatable).",
+)  # fmt: skip
+@click.option("--out", type=click.Path(path_type=Path), help="Folder (default: RUN_DIR/report).")
+@click.option(
+    "--max-goals", type=click.IntRange(min=1), default=4, show_default=True,
+    help="Goals per condition drawn as vector fields and AE maps.",
+)  # fmt: skip
+def report(run_dir: Path, formats: tuple[str, ...], out: Path | None, max_goals: int) -> None:
+    """Write the tables, figures and PDF report of the run in RUN_DIR."""
+    from homebench.report.document import write_report
+
+    outcome = write_report(run_dir, formats, out, max_goals)
+    for warning in outcome.warnings:
+        click.echo(f"homebench: warning: missing job result {warning}", err=True)
+    for path in outcome.files:
+        click.echo(str(path))
+
+
+@main.command()
+@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option("--out", type=click.Path(path_type=Path), help="Also write the table here.")
+def compare(run_dirs: tuple[Path, ...], out: Path | None) -> None:
+    """Compare runs with the first one: AE, AHC, RR differences and time ratios."""
+    from homebench.report.compare import compare_runs
+    from homebench.report.tables import to_markdown, write_views
+
+    comparison = compare_runs(run_dirs)
+    for warning in comparison.warnings:
+        click.echo(f"homebench: warning: {warning}", err=True)
+    click.echo(to_markdown(comparison.view()))
+    if out is not None:
+        for path in write_views([comparison.view()], out):
+            click.echo(str(path))

@@ -1,0 +1,115 @@
+"""From a run's per-pair table to the plain arrays the figures draw."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from homebench.config import MetricsConfig
+from homebench.evaluation.metrics import HomeField
+from homebench.evaluation.results import goal_fields
+from homebench.evaluation.return_ratio import return_ratio
+from homebench.geometry import FloatArray
+
+BoolArray = NDArray[np.bool_]
+
+
+@dataclass(frozen=True, eq=False)
+class GoalPanel:
+    """One method's results towards one goal; arrays have the grid's shape (nx, ny).
+
+    ``field``: world-frame home directions (radians), NaN where untested or no estimate.
+    ``tested``: positions with a pair. ``ae_deg``: AE in degrees, NaN where untested or no
+    estimate. ``rr``: the goal's return ratio, NaN when the field does not cover the grid (then
+    ``rr_failed`` is all False). ``rr_failed``: the return-ratio trial from here fails.
+    """
+
+    label: str
+    field: HomeField
+    tested: BoolArray
+    ae_deg: FloatArray
+    rr: float
+    rr_failed: BoolArray
+
+    @property
+    def no_estimate(self) -> BoolArray:
+        return self.tested & np.isnan(self.field.angles)
+
+    @property
+    def mean_ae_deg(self) -> float:
+        valid = self.ae_deg[~np.isnan(self.ae_deg)]
+        return float(np.mean(valid)) if valid.size else float("nan")
+
+
+def _grid_array(group: pd.DataFrame, shape: tuple[int, int], column: str) -> FloatArray:
+    values = np.full(shape, np.nan)
+    values[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = (
+        group[column].astype(float).to_numpy()
+    )
+    return values
+
+
+def goal_panels(
+    pairs: pd.DataFrame, metrics: MetricsConfig, condition: str, goal: tuple[int, int]
+) -> list[GoalPanel]:
+    """One panel per method (sorted labels) for ``goal`` under ``condition``."""
+    chosen = pairs[
+        (pairs["condition"] == condition)
+        & (pairs["goal_i"] == goal[0])
+        & (pairs["goal_j"] == goal[1])
+    ]
+    rr_config = metrics.return_ratio
+    panels = []
+    for (_, method, _, _), field, complete in goal_fields(chosen):
+        group = chosen[chosen["method"] == method]
+        tested = ~np.isnan(_grid_array(group, field.grid.shape, "current_i"))
+        failed = np.zeros(field.grid.shape, dtype=bool)
+        rr = float("nan")
+        if complete:
+            result = return_ratio(
+                field, rr_config.rh, rr_config.success_radius, rr_config.max_travel
+            )
+            rr, failed = result.rr, result.started & ~result.success
+        ae = _grid_array(group, field.grid.shape, "ae_deg")
+        panels.append(GoalPanel(method, field, tested, ae, rr, failed))
+    return panels
+
+
+def pick_goals(goals: list[tuple[int, int]], limit: int) -> list[tuple[int, int]]:
+    """At most ``limit`` of ``goals`` (kept in order), spread evenly over the list."""
+    if len(goals) <= limit:
+        return list(goals)
+    index = np.unique(np.round(np.linspace(0, len(goals) - 1, limit)).astype(int))
+    return [goals[k] for k in index]
+
+
+def condition_goals(pairs: pd.DataFrame, condition: str) -> list[tuple[int, int]]:
+    """The goals with results under ``condition``, sorted."""
+    chosen = pairs[pairs["condition"] == condition]
+    unique = chosen[["goal_i", "goal_j"]].drop_duplicates()
+    return sorted((int(i), int(j)) for i, j in unique.itertuples(index=False))
+
+
+def image_describe_times(pairs: pd.DataFrame) -> pd.DataFrame:
+    """Describe time per image (ms): columns method, describe_ms; each image counts once.
+
+    An image is (method, database alias, i, j, rotation), as its feature file: a current image
+    repeats in every goal's rows, a goal in all its rows, and under a condition like
+    ``a-a`` a goal is also a current image of the other goals.
+    """
+    aliases = pairs["condition"].str.split("-", n=1, expand=True)
+    current = pd.DataFrame({
+        "method": pairs["method"], "database": aliases[0], "i": pairs["current_i"],
+        "j": pairs["current_j"], "rotation": pairs["rotation"].astype(float),
+        "describe_ms": pairs["describe_ms"],
+    })  # fmt: skip
+    goal = pd.DataFrame({
+        "method": pairs["method"], "database": aliases[1], "i": pairs["goal_i"],
+        "j": pairs["goal_j"], "rotation": 0.0, "describe_ms": pairs["goal_describe_ms"],
+    })  # fmt: skip
+    images = pd.concat([current, goal], ignore_index=True)
+    unique = images.drop_duplicates(["method", "database", "i", "j", "rotation"])
+    return unique[["method", "describe_ms"]].reset_index(drop=True)

@@ -1,0 +1,152 @@
+"""Text pages of the PDF report: the title page, the warning page and table pages."""
+
+from __future__ import annotations
+
+import textwrap
+from typing import Any
+
+from matplotlib.figure import Figure
+
+from homebench.report.run_data import RunData
+from homebench.report.style import new_figure
+from homebench.report.tables import TableView
+
+#: Characters per line of the text pages, and lines per page.
+LINE_WIDTH = 120
+PAGE_LINES = 36
+#: Missing jobs listed on the warning pages.
+MAX_WARNINGS = 200
+#: Table rows per PDF page.
+TABLE_ROWS = 24
+
+
+def _goals_text(goals: Any) -> str:
+    if isinstance(goals, list):
+        return ", ".join(f"({i}, {j})" for i, j in goals)
+    if isinstance(goals, dict):
+        return f"{goals.get('random')} random (seed {goals.get('seed')})"
+    return str(goals)
+
+
+def _currents_text(currents: Any) -> str:
+    if isinstance(currents, dict):
+        return (
+            f"{currents.get('min_distance', 0):g} to {currents.get('max_distance', 'inf'):g} m "
+            "from the goal"
+        )
+    return str(currents)
+
+
+def _rotation_text(rotation: Any) -> str:
+    if isinstance(rotation, dict) and rotation.get("enabled"):
+        return f"yes, random whole columns (seed {rotation.get('seed')})"
+    return "no"
+
+
+def _method_text(entry: dict[str, Any]) -> str:
+    label = entry.get("label") or entry["method"]
+    params = ", ".join(f"{k}={v!r}" for k, v in sorted(entry.get("params", {}).items()))
+    return f"{label}: {entry['method']}" + (f" ({params})" if params else "")
+
+
+def run_summary(run: RunData) -> dict[str, list[str]]:
+    """The title page's sections: heading -> lines (config, environment, results)."""
+    config, env, metrics = run.config, run.environment, run.metrics
+    ahc, rr = metrics.ahc, metrics.return_ratio
+    databases = [f"{alias}: {run.database_label(alias)}" for alias in config.get("databases", {})]
+    missing = len(run.tables.missing_jobs)
+    n_jobs = run.tables.pairs.groupby(["condition", "method", "goal_i", "goal_j"]).ngroups
+    return {
+        "Run": [
+            f"name: {run.name}",
+            f"output: {config.get('output')}",
+            f"config file: {env.get('config_file')}",
+            f"started: {run.started.strftime('%Y-%m-%d %H:%M:%S %Z')}",
+        ],
+        "Experiment": [
+            *(f"database {line}" for line in databases),
+            f"conditions (current-goal): {', '.join(config.get('conditions', []))}",
+            f"goals: {_goals_text(config.get('goals'))}",
+            f"currents: {_currents_text(config.get('currents'))}",
+            f"rotated current views: {_rotation_text(config.get('rotate_current'))}",
+            *(f"method {_method_text(entry)}" for entry in config.get("methods", [])),
+        ],
+        "Metrics": [
+            f"AHC bins: {ahc.bin_start_cm:g} to {ahc.bin_stop_cm:g} cm in steps of "
+            f"{ahc.bin_step_cm:g} cm; pairs without estimate: {ahc.missing}",
+            f"RR: step {rr.rh:g}, success radius {rr.success_radius:g}, max travel "
+            f"{'half the perimeter' if rr.max_travel is None else f'{rr.max_travel:g}'} "
+            "(grid units)",
+            f"catchment: {'yes' if metrics.catchment else 'no'}",
+        ],
+        "Results": [
+            f"{len(run.tables.pairs)} pairs from {n_jobs} job(s)",
+            f"missing or corrupt job files: {missing}{' (see the next page)' if missing else ''}",
+        ],
+        "Environment": [
+            f"host: {env.get('host')} ({env.get('platform')}, {env.get('cpu_count')} CPUs)",
+            "versions: " + ", ".join(f"{k} {v}" for k, v in env.get("versions", {}).items()),
+        ],
+    }
+
+
+def _text_pages(title: str, lines: list[str]) -> list[Figure]:
+    """``lines`` wrapped to LINE_WIDTH, PAGE_LINES per page, under ``title``."""
+    wrapped = [part for line in lines for part in textwrap.wrap(line, LINE_WIDTH) or [""]]
+    pages = []
+    for start in range(0, max(len(wrapped), 1), PAGE_LINES):
+        fig = new_figure()
+        heading = title if start == 0 else f"{title} (continued)"
+        fig.text(0.06, 0.94, heading, fontsize=16, weight="bold", va="top")
+        fig.text(0.06, 0.88, "\n".join(wrapped[start : start + PAGE_LINES]), fontsize=9,
+                 va="top", linespacing=1.45)  # fmt: skip
+        pages.append(fig)
+    return pages
+
+
+def title_pages(run: RunData) -> list[Figure]:
+    """The title page: the run's config, results and environment (continued if long)."""
+    lines = []
+    for heading, section in run_summary(run).items():
+        lines += [heading.upper(), *(f"    {line}" for line in section), ""]
+    return _text_pages(f"homebench report: {run.name}", lines)
+
+
+def warning_pages(warnings: list[str]) -> list[Figure]:
+    """The missing jobs, at most MAX_WARNINGS of them listed."""
+    shown = warnings[:MAX_WARNINGS]
+    more = len(warnings) - len(shown)
+    lines = [
+        "This run is incomplete: the jobs below have no valid result file (missing, corrupt or",
+        "of another job). Their pairs are absent from every table and figure of this report.",
+        "",
+        *shown,
+        *([f"... and {more} more"] if more else []),
+    ]
+    return _text_pages("Warning: missing job results", lines)
+
+
+def table_pages(view: TableView) -> list[Figure]:
+    """``view`` drawn as matplotlib tables, TABLE_ROWS rows per page."""
+    text = view.text_frame()
+    pages = []
+    for start in range(0, max(len(text), 1), TABLE_ROWS):
+        chunk = text.iloc[start : start + TABLE_ROWS]
+        fig = new_figure()
+        ax = fig.add_subplot()
+        ax.axis("off")
+        table = ax.table(cellText=chunk.to_numpy().tolist(), colLabels=list(chunk.columns),
+                         loc="upper center", cellLoc="right", colLoc="center")  # fmt: skip
+        table.auto_set_font_size(False)
+        table.set_fontsize(8)
+        table.auto_set_column_width(list(range(len(chunk.columns))))
+        table.scale(1.0, 1.5)
+        for (row, column), cell in table.get_celld().items():
+            if row == 0:
+                cell.set_text_props(weight="bold")
+            elif view.alignment()[column] == "left":
+                cell.set_text_props(ha="left")
+        part = f" ({start // TABLE_ROWS + 1})" if len(text) > TABLE_ROWS else ""
+        fig.suptitle(view.title + part)
+        pages.append(fig)
+    return pages

@@ -1,0 +1,104 @@
+"""A run folder as the report sees it: its config, environment and tables, read from disk alone."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from homebench.config import MetricsConfig
+from homebench.errors import DataError
+from homebench.evaluation.results import RunTables, build_tables
+
+CONFIG_FILE = "config.resolved.json"
+ENVIRONMENT_FILE = "environment.json"
+
+
+@dataclass(frozen=True)
+class RunData:
+    """Everything a report draws from: ``config`` and ``environment`` as written by the run."""
+
+    run_dir: Path
+    config: dict[str, Any]
+    environment: dict[str, Any]
+    metrics: MetricsConfig
+    tables: RunTables
+
+    @property
+    def name(self) -> str:
+        return str(self.config.get("name", self.run_dir.name))
+
+    @property
+    def started(self) -> datetime:
+        """When the run started (UTC), from environment.json; the report's fixed date."""
+        text = self.environment.get("started")
+        try:
+            value = datetime.fromisoformat(text) if isinstance(text, str) else None
+        except ValueError:
+            value = None
+        if value is None:
+            raise DataError(f"{self.run_dir / ENVIRONMENT_FILE}: no valid 'started' date")
+        return value if value.tzinfo else value.replace(tzinfo=UTC)
+
+    @property
+    def conditions(self) -> list[str]:
+        """Conditions with results, in the config's order."""
+        present = set(self.tables.pairs["condition"]) if not self.tables.pairs.empty else set()
+        return [c for c in self.config.get("conditions", []) if c in present]
+
+    def database_label(self, alias: str) -> str:
+        """A short name of the database behind ``alias``: its name, manifest or world."""
+        ref = self.config.get("databases", {}).get(alias)
+        if not isinstance(ref, dict):
+            return alias
+        if ref.get("world"):
+            world = ref["world"]
+            return f"world {world.get('variant', 'original')} (seed {world.get('seed', 0)})"
+        name = str(ref.get("name"))
+        if name.endswith((".yaml", ".yml")):
+            path = Path(name)
+            return path.parent.name if path.stem == "manifest" else path.stem
+        return name
+
+    def condition_title(self, condition: str) -> str:
+        """``condition`` with the databases it pairs: "a-b (current: x, goal: y)"."""
+        current, goal = condition.split("-", 1)
+        return (
+            f"{condition} (current: {self.database_label(current)}, "
+            f"goal: {self.database_label(goal)})"
+        )
+
+
+def _read_json(path: Path) -> dict[str, Any]:
+    try:
+        value = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise DataError(f"{path}: missing; is {path.parent} a homebench run folder?") from None
+    except (OSError, ValueError) as error:
+        raise DataError(f"{path}: corrupt ({error})") from None
+    if not isinstance(value, dict):
+        raise DataError(f"{path}: corrupt (expected a JSON object)")
+    return value
+
+
+def load_run(run_dir: Path) -> RunData:
+    """Read a run folder; DataError naming the file when it is not one or is corrupt.
+
+    Missing or corrupt job files do not raise: they are listed in ``tables.missing_jobs``.
+    """
+    run_dir = Path(run_dir)
+    if not run_dir.is_dir():
+        raise DataError(f"{run_dir}: no such run folder")
+    config = _read_json(run_dir / CONFIG_FILE)
+    environment = _read_json(run_dir / ENVIRONMENT_FILE)
+    try:
+        metrics = MetricsConfig.model_validate(config.get("metrics", {}))
+    except ValidationError as error:
+        first = error.errors()[0]
+        where = ".".join(str(p) for p in first["loc"])
+        raise DataError(f"{run_dir / CONFIG_FILE}: metrics.{where}: {first['msg']}") from None
+    return RunData(run_dir, config, environment, metrics, build_tables(run_dir, metrics))
