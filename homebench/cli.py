@@ -171,7 +171,10 @@ def _format_summary(summary: Any) -> str:
 @click.option("--jobs", "-j", type=int, help="Parallel workers (overrides the config; -1 all).")
 @click.option("--force", is_flag=True, help="Recompute every job, even finished ones.")
 @click.option("--no-progress", is_flag=True, help="Hide the progress bars.")
-def run(config_file: Path, jobs: int | None, force: bool, no_progress: bool) -> None:
+@click.option("--no-report", is_flag=True, help="Skip the PDF report (tables are still written).")
+def run(
+    config_file: Path, jobs: int | None, force: bool, no_progress: bool, no_report: bool
+) -> None:
     """Run the benchmark described by CONFIG_FILE; resumes an interrupted run."""
     from homebench.config import load_config
     from homebench.errors import ConfigError
@@ -190,6 +193,11 @@ def run(config_file: Path, jobs: int | None, force: bool, no_progress: bool) -> 
         f"{outcome.computed} job(s) computed, {outcome.reused} reused; "
         f"tables in {written[0].parent}"
     )
+    if not no_report and not tables.summary.empty:
+        from homebench.report.document import write_report
+
+        report_files = write_report(outcome.run_dir).files
+        click.echo(f"report: {report_files[-1]}")
     for failure in outcome.failures:
         click.echo(f"homebench: job {failure.kind} {failure.key} failed: {failure.error}", err=True)
     if outcome.failures:

@@ -38,7 +38,7 @@ def _config(tmp_path: Path, manifest: Path, **changes: object) -> Path:
 
 
 def _run(*args: str) -> tuple[int, str, str]:
-    result = CliRunner().invoke(main, ["run", *args, "--no-progress"])
+    result = CliRunner().invoke(main, ["run", *args, "--no-progress", "--no-report"])
     return result.exit_code, result.stdout, result.stderr
 
 
@@ -122,6 +122,7 @@ def test_killed_run_resumes_to_the_same_tables(tmp_path: Path, arena_manifest: P
         "--jobs",
         "1",
         "--no-progress",
+        "--no-report",
     ]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     jobs_dir = killed / "run" / "jobs"
