@@ -166,25 +166,56 @@ def _format_summary(summary: Any) -> str:
     return shown.to_string(index=False, float_format=lambda v: "-" if math.isnan(v) else f"{v:.3g}")
 
 
+def _parse_shard(
+    ctx: click.Context, param: click.Parameter, value: str | None
+) -> tuple[int, int] | None:
+    if value is None:
+        return None
+    try:
+        i, n = (int(part) for part in value.split("/"))
+    except ValueError:
+        raise click.BadParameter(f"{value!r} is not i/N (e.g. 2/8)") from None
+    return i, n
+
+
 @main.command()
 @click.argument("config_file", type=click.Path(path_type=Path))
 @click.option("--jobs", "-j", type=int, help="Parallel workers (overrides the config; -1 all).")
 @click.option("--force", is_flag=True, help="Recompute every job, even finished ones.")
 @click.option("--no-progress", is_flag=True, help="Hide the progress bars.")
 @click.option("--no-report", is_flag=True, help="Skip the PDF report (tables are still written).")
+@click.option(
+    "--backend", type=click.Choice(["local", "dask"]), default="local", show_default=True,
+    help="local: joblib workers on this machine; dask: a Dask cluster (see --scheduler).",
+)  # fmt: skip
+@click.option("--scheduler", help="Address of a running Dask scheduler (default: local cluster).")
+@click.option(
+    "--shard", callback=_parse_shard, metavar="I/N",
+    help="Run only the I-th of N deterministic parts of the plan (1-based).",
+)  # fmt: skip
 def run(
-    config_file: Path, jobs: int | None, force: bool, no_progress: bool, no_report: bool
+    config_file: Path,
+    jobs: int | None,
+    force: bool,
+    no_progress: bool,
+    no_report: bool,
+    backend: str,
+    scheduler: str | None,
+    shard: tuple[int, int] | None,
 ) -> None:
     """Run the benchmark described by CONFIG_FILE; resumes an interrupted run."""
     from homebench.config import load_config
-    from homebench.errors import ConfigError
     from homebench.evaluation.results import build_tables, write_tables
-    from homebench.evaluation.runner import run_plan
+    from homebench.evaluation.runner import Execution, run_plan
 
-    if jobs is not None and (jobs == 0 or jobs < -1):
-        raise ConfigError("--jobs must be a positive number, or -1 for all cores")
     config = load_config(config_file)
-    outcome = run_plan(config, config_file, jobs=jobs, force=force, show_progress=not no_progress)
+    execution = Execution(
+        jobs=jobs if jobs is not None else config.jobs,
+        backend=backend,
+        scheduler=scheduler,
+        shard=shard,
+    )
+    outcome = run_plan(config, config_file, execution, force=force, show_progress=not no_progress)
     tables = build_tables(outcome.run_dir, config.metrics)
     written = write_tables(tables, outcome.run_dir, config.table_format)
     if not tables.summary.empty:
@@ -193,6 +224,12 @@ def run(
         f"{outcome.computed} job(s) computed, {outcome.reused} reused; "
         f"tables in {written[0].parent}"
     )
+    if tables.missing_jobs:
+        click.echo(
+            f"{len(tables.missing_jobs)} job(s) of the plan have no result here yet (other "
+            "shards?): their rows are not in the tables; rerun or `homebench report` once all "
+            "job files are in place"
+        )
     if not no_report and not tables.summary.empty:
         from homebench.report.document import write_report
 

@@ -193,3 +193,39 @@ def test_missing_image_names_the_position(tmp_path: Path, arena_manifest: Path) 
     code, _, err = _run(str(_config(tmp_path, manifest)))
     assert code == 2
     assert "(2,3)" in err
+
+
+def test_shards_together_give_the_unsharded_tables(tmp_path: Path, arena_manifest: Path) -> None:
+    whole, sharded = tmp_path / "whole", tmp_path / "sharded"
+    whole.mkdir(), sharded.mkdir()
+    changes = {"goals": "all", "methods": [{"method": "warping"}]}
+    assert _run(str(_config(whole, arena_manifest, **changes)))[0] == 0
+    config = _config(sharded, arena_manifest, **changes)
+    code, out, _ = _run(str(config), "--shard", "1/3")
+    assert code == 0 and "have no result here yet" in out
+    first = len(list((sharded / "run" / "jobs").glob("*.json")))
+    assert 0 < first < 20
+    for shard in ("2/3", "3/3"):
+        assert _run(str(config), "--shard", shard)[0] == 0
+    assert len(list((sharded / "run" / "jobs").glob("*.json"))) == 20
+    _assert_same_tables(whole / "run", sharded / "run")
+    code, _, err = _run(str(config), "--shard", "4/3")
+    assert code == 2 and "need 1 <= i <= n" in err
+
+
+def test_dask_cluster_gives_the_local_tables(tmp_path: Path, arena_manifest: Path) -> None:
+    import distributed  # the test extra installs it: a missing package must fail, not skip
+
+    local, remote = tmp_path / "local", tmp_path / "dask"
+    local.mkdir(), remote.mkdir()
+    assert _run(str(_config(local, arena_manifest)), "--jobs", "1")[0] == 0
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster:  # fmt: skip
+        code, _, err = _run(
+            str(_config(remote, arena_manifest)), "--backend", "dask", "--scheduler",
+            cluster.scheduler_address,
+        )  # fmt: skip
+    assert code == 0, err
+    _assert_same_tables(local / "run", remote / "run")
