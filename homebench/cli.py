@@ -1,7 +1,8 @@
 """The homebench command line: parse, call the library, print. No logic lives here.
 
 Exit codes: 0 success; 1 a crash (a bug: full traceback with ``--debug``) or failed jobs;
-2 a usage, config or data error (one line naming the file or key).
+2 a usage, config or data error (one line naming the file or key); 3 a failed ``--check``
+threshold (a regression, not a crash).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from homebench.errors import HomebenchError
 
 EXIT_ERROR = 2
 EXIT_CRASH = 1
+EXIT_CHECK = 3
 
 
 class _Group(click.Group):
@@ -193,6 +195,9 @@ def _parse_shard(
     "--shard", callback=_parse_shard, metavar="I/N",
     help="Run only the I-th of N deterministic parts of the plan (1-based).",
 )  # fmt: skip
+@click.option(
+    "--check", is_flag=True, help="Compare metrics with the config's thresholds; exit 3 on failure."
+)
 def run(
     config_file: Path,
     jobs: int | None,
@@ -202,9 +207,11 @@ def run(
     backend: str,
     scheduler: str | None,
     shard: tuple[int, int] | None,
+    check: bool,
 ) -> None:
     """Run the benchmark described by CONFIG_FILE; resumes an interrupted run."""
     from homebench.config import load_config
+    from homebench.errors import ConfigError
     from homebench.evaluation.results import build_tables, write_tables
     from homebench.evaluation.runner import Execution, run_plan
 
@@ -239,6 +246,17 @@ def run(
         click.echo(f"homebench: job {failure.kind} {failure.key} failed: {failure.error}", err=True)
     if outcome.failures:
         sys.exit(EXIT_CRASH)
+    if check:
+        from homebench.evaluation.checks import failed_checks
+
+        if not config.checks:
+            raise ConfigError(f"{config_file}: --check needs a 'checks' section")
+        reasons = failed_checks(tables.summary, config.checks)
+        for reason in reasons:
+            click.echo(f"homebench: check failed: {reason}", err=True)
+        if reasons:
+            sys.exit(EXIT_CHECK)
+        click.echo(f"all {len(config.checks)} method check(s) passed")
 
 
 # --------------------------------------------------------------------------- reports

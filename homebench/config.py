@@ -128,6 +128,15 @@ class UnfoldConfig(_Strict):
         )
 
 
+class Check(_Strict):
+    """Thresholds a method must meet in every condition for ``homebench run --check``."""
+
+    ahc_min: float | None = Field(None, ge=-1, le=1)
+    rr_min: float | None = Field(None, ge=0, le=1)
+    mean_ae_max_deg: float | None = Field(None, ge=0, le=180)
+    no_estimate_max: float | None = Field(None, ge=0, le=1)
+
+
 class RunConfig(_Strict):
     name: str = "run"
     output: Path
@@ -142,6 +151,7 @@ class RunConfig(_Strict):
     rotate_current: RotationConfig = RotationConfig()
     unfold: UnfoldConfig = UnfoldConfig()
     table_format: Literal["csv", "parquet"] = "csv"
+    checks: dict[str, Check] = Field(default_factory=dict)  # method label -> thresholds
 
     @field_validator("databases", mode="before")
     @classmethod
@@ -183,6 +193,9 @@ class RunConfig(_Strict):
         repeated = sorted({label for label in labels if labels.count(label) > 1})
         if repeated:
             raise ValueError(f"methods: label {repeated[0]!r} used twice; give each entry a label")
+        unknown = sorted(set(self.checks) - set(labels))
+        if unknown:
+            raise ValueError(f"checks: no method entry labelled {unknown[0]!r}")
         return self
 
     def condition_pairs(self) -> list[tuple[str, str, str]]:

@@ -58,12 +58,16 @@ def atomic_write(path: Path, mode: str = "wb") -> Iterator[IO]:
     """Open a temporary file beside ``path``; on success fsync it and rename it to ``path``.
 
     On any exception (KeyboardInterrupt included) the temporary file is removed and the
-    exception propagates; ``path`` is then untouched. ``mode`` is "wb" or "w" (UTF-8 text).
+    exception propagates; ``path`` is then untouched. An OS error (disk full, no permission)
+    becomes a DataError naming ``path``. ``mode`` is "wb" or "w" (UTF-8 text).
     """
     if mode not in ("wb", "w"):
         raise ValueError(f"mode must be 'wb' or 'w', got {mode!r}")
     path = Path(path)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as error:
+        raise DataError(f"{path}: cannot write ({error.strerror or error})") from error
     tmp = Path(tmp_name)
     try:
         os.chmod(tmp, 0o666 & ~_UMASK)
@@ -73,6 +77,9 @@ def atomic_write(path: Path, mode: str = "wb") -> Iterator[IO]:
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, path)
+    except OSError as error:
+        tmp.unlink(missing_ok=True)
+        raise DataError(f"{path}: cannot write ({error.strerror or error})") from error
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise

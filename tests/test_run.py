@@ -229,3 +229,20 @@ def test_dask_cluster_gives_the_local_tables(tmp_path: Path, arena_manifest: Pat
         )  # fmt: skip
     assert code == 0, err
     _assert_same_tables(local / "run", remote / "run")
+
+
+def test_check_passes_fails_with_exit_3_and_names_each_threshold(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    good = {"warping": {"ahc_min": 0.8, "rr_min": 0.8}}
+    code, out, err = _run(str(_config(tmp_path, arena_manifest, checks=good)), "--check")
+    assert code == 0, err
+    assert "all 1 method check(s) passed" in out
+    bad = {"warping": {"mean_ae_max_deg": 0.001}, "warping-coarse": {"rr_min": 1.0, "ahc_min": 1}}
+    code, _, err = _run(str(_config(tmp_path, arena_manifest, checks=bad)), "--check")
+    assert code == 3
+    failed = [line for line in err.splitlines() if line.startswith("homebench: check failed:")]
+    assert any("warping in arena-arena: mean_ae_deg" in line for line in failed)
+    assert any("warping-coarse in arena-arena: ahc" in line for line in failed)
+    code, _, err = _run(str(_config(tmp_path, arena_manifest, checks={"sift": {}})), "--check")
+    assert code == 2 and "checks: no method entry labelled 'sift'" in err
