@@ -168,6 +168,33 @@ def _format_summary(summary: Any) -> str:
     return shown.to_string(index=False, float_format=lambda v: "-" if math.isnan(v) else f"{v:.3g}")
 
 
+def _run_routes(
+    config_file: Path, jobs: int | None, force: bool, no_progress: bool, no_report: bool
+) -> None:
+    """``homebench run`` of a route-homing config (``kind: route``)."""
+    from homebench.evaluation.route_homing import run_route_experiment
+    from homebench.route_config import load_route_config
+
+    config = load_route_config(config_file)
+    outcome = run_route_experiment(
+        config, config_file, jobs=jobs, force=force, show_progress=not no_progress
+    )
+    if not outcome.table.empty:
+        click.echo(outcome.table.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    click.echo(
+        f"{outcome.computed} trial(s) computed, {outcome.reused} reused; "
+        f"table in {outcome.table_path}"
+    )
+    if not no_report and not outcome.table.empty:
+        from homebench.report.document import write_report
+
+        click.echo(f"report: {write_report(outcome.run_dir).files[-1]}")
+    for failure in outcome.failures:
+        click.echo(f"homebench: trial {failure.key} failed: {failure.error}", err=True)
+    if outcome.failures:
+        sys.exit(EXIT_CRASH)
+
+
 def _parse_shard(
     ctx: click.Context, param: click.Parameter, value: str | None
 ) -> tuple[int, int] | None:
@@ -210,11 +237,16 @@ def run(
     check: bool,
 ) -> None:
     """Run the benchmark described by CONFIG_FILE; resumes an interrupted run."""
-    from homebench.config import load_config
+    from homebench.config import config_kind, load_config
     from homebench.errors import ConfigError
     from homebench.evaluation.results import build_tables, write_tables
     from homebench.evaluation.runner import Execution, run_plan
 
+    if config_kind(config_file) == "route":
+        if backend != "local" or shard is not None or check:
+            raise ConfigError("--backend dask, --shard and --check are for grid runs, not routes")
+        _run_routes(config_file, jobs, force, no_progress, no_report)
+        return
     config = load_config(config_file)
     execution = Execution(
         jobs=jobs if jobs is not None else config.jobs,

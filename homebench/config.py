@@ -31,7 +31,7 @@ from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
-from homebench.yamlio import load_model
+from homebench.yamlio import load_model, load_yaml_mapping
 
 ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
 
@@ -201,6 +201,12 @@ class RunConfig(_Strict):
     def condition_pairs(self) -> list[tuple[str, str, str]]:
         """(condition, current alias, goal alias) for every condition."""
         return [(c, *c.split("-")) for c in self.conditions]
+
+
+def config_kind(path: Path) -> str:
+    """The experiment kind a config file declares: "route" (``kind: route``) or "grid"."""
+    data = load_yaml_mapping(path, what="config")
+    return "route" if data.get("kind") == "route" else "grid"
 
 
 def load_config(path: Path) -> RunConfig:

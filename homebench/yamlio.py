@@ -18,22 +18,29 @@ from homebench.errors import ConfigError
 M = TypeVar("M", bound=BaseModel)
 
 
-def load_model(model: type[M], path: Path, what: str = "file") -> M:
-    """Read a YAML file and validate it against ``model`` (``what`` names it in errors)."""
-    path = Path(path)
+def _read(path: Path, what: str) -> str:
     try:
-        text = path.read_text(encoding="utf-8")
+        return Path(path).read_text(encoding="utf-8")
     except FileNotFoundError:
         raise ConfigError(f"{path}: no such {what}") from None
     except OSError as error:
         raise ConfigError(f"{path}: cannot read the {what} ({error.strerror or error})") from None
     except UnicodeDecodeError as error:
         raise ConfigError(f"{path}: the {what} is not UTF-8 text ({error})") from None
-    return parse_model(model, text, str(path), what)
 
 
-def parse_model(model: type[M], text: str, origin: str, what: str = "file") -> M:
-    """Validate YAML ``text`` against ``model``; ``origin`` (a file name) starts every error."""
+def load_model(model: type[M], path: Path, what: str = "file") -> M:
+    """Read a YAML file and validate it against ``model`` (``what`` names it in errors)."""
+    return parse_model(model, _read(path, what), str(path), what)
+
+
+def load_yaml_mapping(path: Path, what: str = "file") -> dict[str, Any]:
+    """Read a YAML file that must hold a mapping (not validated against a model)."""
+    return _parse_mapping(_read(path, what), str(path), what)[0]
+
+
+def _parse_mapping(text: str, origin: str, what: str) -> tuple[dict[str, Any], yaml.Node]:
+    """The YAML mapping in ``text`` and its node (for line numbers); ConfigError otherwise."""
     loader = yaml.SafeLoader(text)
     try:
         node = loader.get_single_node()
@@ -51,6 +58,12 @@ def parse_model(model: type[M], text: str, origin: str, what: str = "file") -> M
         loader.dispose()
     if not isinstance(data, dict):
         raise ConfigError(f"{origin}: a {what} is a mapping of keys, got {type(data).__name__}")
+    return data, node
+
+
+def parse_model(model: type[M], text: str, origin: str, what: str = "file") -> M:
+    """Validate YAML ``text`` against ``model``; ``origin`` (a file name) starts every error."""
+    data, node = _parse_mapping(text, origin, what)
     try:
         return model.model_validate(data)
     except ValidationError as error:

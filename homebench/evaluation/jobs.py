@@ -36,7 +36,8 @@ class JobOutcome:
     error: str | None = None
 
 
-def _run_safely(kind: str, key: str, work: Any, *args: Any) -> JobOutcome:
+def run_safely(kind: str, key: str, work: Any, *args: Any) -> JobOutcome:
+    """Call ``work(*args)`` with OpenCV on one thread; an exception becomes the outcome's error."""
     cv2.setNumThreads(1)
     try:
         work(*args)
@@ -47,11 +48,11 @@ def _run_safely(kind: str, key: str, work: Any, *args: Any) -> JobOutcome:
 
 
 def run_describe_job(job: DescribeJob, run_dir: Path) -> JobOutcome:
-    return _run_safely("describe", job.key, _describe, job, run_dir)
+    return run_safely("describe", job.key, _describe, job, run_dir)
 
 
 def run_home_job(job: HomeJob, run_dir: Path) -> JobOutcome:
-    return _run_safely("home", job.key, _home, job, run_dir)
+    return run_safely("home", job.key, _home, job, run_dir)
 
 
 def _describe(job: DescribeJob, run_dir: Path) -> None:

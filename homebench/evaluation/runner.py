@@ -18,15 +18,16 @@ from dataclasses import dataclass
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from joblib import Parallel, delayed, parallel_config
+from pydantic import BaseModel
 from tqdm import tqdm
 
 from homebench.config import RunConfig
 from homebench.errors import ConfigError
 from homebench.evaluation.jobs import JobOutcome, read_result, run_describe_job, run_home_job
-from homebench.evaluation.plan import DescribeJob, HomeJob, Plan, make_plan
+from homebench.evaluation.plan import Plan, make_plan
 from homebench.evaluation.results import write_plan_index
 from homebench.evaluation.sources import Source, prepare_sources
 from homebench.fileio import write_text_atomic
@@ -54,7 +55,7 @@ def _versions() -> dict[str, str]:
     return found
 
 
-def write_run_metadata(config: RunConfig, config_path: Path, run_dir: Path) -> None:
+def write_run_metadata(config: BaseModel, config_path: Path, run_dir: Path) -> None:
     """The resolved config, package versions and host, beside the results."""
     resolved = config.model_dump(mode="json")
     write_text_atomic(run_dir / "config.resolved.json", json.dumps(resolved, indent=2) + "\n")
@@ -122,14 +123,16 @@ def _workers(execution: Execution) -> Iterator[int]:
             cluster.close()
 
 
-def _run_parallel(
-    work: Callable[..., JobOutcome],
-    jobs: Sequence[DescribeJob] | Sequence[HomeJob],
+def run_parallel(
+    work: Callable[[Any, Path], JobOutcome],
+    jobs: Sequence[Any],
     run_dir: Path,
     n_jobs: int,
     label: str,
     show_progress: bool,
 ) -> list[JobOutcome]:
+    """Run ``work(job, run_dir)`` for every job (in order with n_jobs 1, else in joblib
+    workers), with a progress bar; return the outcomes as they finish."""
     if not jobs:
         return []
     if n_jobs == 1:
@@ -178,9 +181,9 @@ def run_plan(
         )
     ]
     with _workers(execution) as n_jobs:
-        described = _run_parallel(
+        described = run_parallel(
             run_describe_job, describe, run_dir, n_jobs, "describe", show_progress
         )
-        homed = _run_parallel(run_home_job, todo, run_dir, n_jobs, "home", show_progress)
+        homed = run_parallel(run_home_job, todo, run_dir, n_jobs, "home", show_progress)
     errors = tuple(outcome for outcome in (*described, *homed) if outcome.error)
     return RunOutcome(run_dir, plan, len(todo), len(mine) - len(todo), errors)

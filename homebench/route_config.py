@@ -1,0 +1,125 @@
+"""The config of a route-homing experiment (seed 000): YAML -> validated, frozen objects.
+
+Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). Example (see
+``configs/klt_route.yaml``)::
+
+    kind: route
+    name: klt-route
+    output: runs/klt_route
+    world: {seed: 0, variant: original}          # a generated world (WorldSpec)
+    routes:
+      - name: tour
+        waypoints: [[1.7, 1.8], [1.7, 3.8], [4.2, 3.8]]   # metres, world frame; home first
+        lengths: [2, 4]                          # one trial per length: the route's first metres
+    motion: {step_length: 0.05, max_turn_deg: 10}
+    drift: {translation_var: 1.0e-4, heading_bias: 0.01}
+    tracker: {max_corners: 150, min_tracks: 100}  # KltTracker parameters
+    homing: {min_shared: 80, goal_threshold: 0.01}
+
+Checks that need the world (waypoints in free space) happen when the experiment starts.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from homebench.config import ALIAS
+from homebench.data.synth.spec import WorldSpec
+from homebench.errors import ConfigError
+from homebench.evaluation.robot import DriftModel, MotionLimits
+from homebench.evaluation.route_visual import VisualHomingParams
+from homebench.methods.klt_tracking import KltTracker
+from homebench.yamlio import load_model
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class RouteSpec(_Strict):
+    """An outbound route: ``waypoints`` (metres, home first) driven in order.
+
+    ``heading_deg``: the robot's heading at home (default: along the first segment).
+    ``lengths`` (metres): one trial per length, driving the route's first metres; default: one
+    trial over the whole route. ``repeats``: trials per length, each with its own noise.
+    """
+
+    name: str
+    waypoints: list[tuple[float, float]] = Field(min_length=2)
+    heading_deg: float | None = None
+    lengths: list[Annotated[float, Field(gt=0)]] | None = None
+    repeats: int = Field(1, ge=1)
+
+    @field_validator("name")
+    @classmethod
+    def _name(cls, value: str) -> str:
+        if not ALIAS.match(value):
+            raise ValueError(f"route names may hold letters, digits and '_' only: {value!r}")
+        return value
+
+    @property
+    def length(self) -> float:
+        """Length of the whole route, metres."""
+        return float(np.sum(np.hypot(*np.diff(np.asarray(self.waypoints), axis=0).T)))
+
+    @model_validator(mode="after")
+    def _lengths_fit(self) -> RouteSpec:
+        if self.length <= 0:
+            raise ValueError("the waypoints must not all coincide")
+        too_long = [x for x in self.lengths or () if x > self.length + 1e-9]
+        if too_long:
+            raise ValueError(f"length {too_long[0]} m exceeds the route's {self.length:.3f} m")
+        return self
+
+    def trial_lengths(self) -> list[float]:
+        return list(self.lengths) if self.lengths else [self.length]
+
+    @property
+    def heading(self) -> float:
+        """Heading at home, radians."""
+        if self.heading_deg is not None:
+            return math.radians(self.heading_deg)
+        (x0, y0), (x1, y1) = self.waypoints[0], self.waypoints[1]
+        return math.atan2(y1 - y0, x1 - x0)
+
+
+class RouteConfig(_Strict):
+    """A route-homing experiment: a generated world, routes, the robot, the tracker, homing."""
+
+    kind: Literal["route"]
+    name: str = "route"
+    output: Path
+    seed: int = Field(0, ge=0)
+    jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
+    world: WorldSpec = WorldSpec()
+    routes: list[RouteSpec] = Field(min_length=1)
+    motion: MotionLimits = MotionLimits()
+    drift: DriftModel = DriftModel()
+    tracker: dict[str, Any] = Field(default_factory=dict)
+    homing: VisualHomingParams = VisualHomingParams()
+
+    @model_validator(mode="after")
+    def _checks(self) -> RouteConfig:
+        names = [route.name for route in self.routes]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise ValueError(f"routes: name {repeated[0]!r} used twice")
+        try:
+            self.klt()
+        except (TypeError, ConfigError) as error:
+            raise ValueError(f"tracker: {error}") from None
+        return self
+
+    def klt(self) -> KltTracker:
+        """The corner tracker of the run."""
+        return KltTracker(**self.tracker)
+
+
+def load_route_config(path: Path) -> RouteConfig:
+    """Read and validate a route config; problems are ConfigErrors naming file and key."""
+    return load_model(RouteConfig, path, what="config")
