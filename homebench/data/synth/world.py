@@ -1,0 +1,238 @@
+"""A generated world: build it from a :class:`WorldSpec`, render any pose in both image kinds.
+
+One cast per pose: rays for a supersampled equiangular panorama (``SUPERSAMPLE`` x the
+unfolded resolution, covering the elevations of both cameras), textures sampled from the lit
+atlas with trilinear mip-mapping. The unfolded image is that panorama area-averaged (its
+``zero_column`` is set so that each block of columns centres on the unfolded column's azimuth);
+the raw image is :func:`~homebench.imaging.projection.fold` of it. Sensor noise comes last,
+seeded by (noise seed, image kind) and never by the variant, so pixels that an added object
+does not touch are bit-identical between variants.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections import OrderedDict
+from functools import lru_cache
+from typing import Any
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.data.synth.atlas import LEVELS, Atlas, layout
+from homebench.data.synth.layout import base_scene, variant_objects
+from homebench.data.synth.lighting import LIGHTINGS, radiance, sun_direction
+from homebench.data.synth.raycast import Hits, cast
+from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene
+from homebench.data.synth.spec import WorldSpec
+from homebench.errors import HomebenchError
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
+from homebench.imaging.projection import fold, fold_labels, frontmost
+
+#: Rows and columns of the cast panorama per unfolded pixel.
+SUPERSAMPLE = 4
+#: Supersampling of the fold to the raw image.
+RAW_SUPERSAMPLE = 2
+#: Closest a camera may come to a wall or an object, metres.
+MIN_CLEARANCE = 0.02
+_KIND_STREAM = {"raw": 0, "unfolded": 1}
+_CACHE_SIZE = 6
+_worlds: OrderedDict[str, World] = OrderedDict()
+
+
+class PoseError(HomebenchError):
+    """A pose that cannot be rendered: outside the room or inside an object."""
+
+
+def supersampled_geometry(
+    unfolded: PanoramaGeometry, raw: CatadioptricGeometry, k: int
+) -> tuple[PanoramaGeometry, slice]:
+    """The cast panorama for an unfolded geometry and a raw one, and the rows to crop.
+
+    ``k x k`` pixels of it average to one unfolded pixel; it extends the unfolded elevation
+    range by whole unfolded rows (plus one) to cover the raw annulus.
+    """
+    step = unfolded.row_step
+    top = max(unfolded.elevation_top, max(raw.elevations))
+    bottom = min(unfolded.elevation_bottom, min(raw.elevations))
+    above = math.ceil((top - unfolded.elevation_top) / step - 1e-9) + 1
+    below = math.ceil((unfolded.elevation_bottom - bottom) / step - 1e-9) + 1
+    geometry = PanoramaGeometry(
+        width=k * unfolded.width,
+        height=k * (unfolded.height + above + below),
+        elevation_top=unfolded.elevation_top + above * step,
+        elevation_bottom=unfolded.elevation_bottom - below * step,
+        direction=unfolded.direction,
+        zero_column=k * unfolded.zero_column + (k - 1) / 2.0,
+    )
+    return geometry, slice(k * above, k * (above + unfolded.height))
+
+
+def position_noise_seed(seed: int, i: int, j: int) -> int:
+    """The sensor-noise seed of grid position (i, j) of a world seed (independent of variant)."""
+    digest = hashlib.sha256(f"homebench-noise:{seed}:{i}:{j}".encode()).digest()
+    return int.from_bytes(digest[:8], "little")
+
+
+class World:
+    """A scene under one variant's lighting, ready to render (see :func:`build_world`).
+
+    The first ``n_base_objects`` of ``scene.objects`` are the base layout: their atlas tiles
+    come first, so objects appended after them (a variant's, or a test's marker) change nothing
+    else in the images.
+    """
+
+    def __init__(self, spec: WorldSpec, scene: Scene, n_base_objects: int):
+        self.spec, self.scene = spec, scene
+        self.lighting = LIGHTINGS[spec.variant]
+        self.raw_geometry = spec.raw.geometry()
+        self.unfolded_geometry = spec.unfolded.geometry()
+        self.panorama_geometry, self._rows = supersampled_geometry(
+            self.unfolded_geometry, self.raw_geometry, SUPERSAMPLE
+        )
+        surfaces = scene.surfaces()
+        self.regions, shape = layout(
+            [s.albedo.shape for s in surfaces],
+            [s.scale for s in surfaces],
+            n_base=3 + 3 * n_base_objects,
+        )
+        sun = sun_direction(scene, spec.seed)
+        lit = [radiance(s, scene, self.lighting, sun) for s in surfaces]
+        self.atlas = Atlas(lit, self.regions, shape)
+        self._annulus = self.raw_geometry.annulus_mask()
+
+    # ------------------------------------------------------------------ rendering
+
+    def check_pose(self, pose: Pose) -> None:
+        """Raise :class:`PoseError` unless the camera at ``pose`` is in free space."""
+        room, z = self.scene.room, self.spec.camera_height
+        m = MIN_CLEARANCE
+        if not (m < pose.x < room.width - m and m < pose.y < room.depth - m):
+            raise PoseError(
+                f"pose ({pose.x:.3f}, {pose.y:.3f}) m is outside the room "
+                f"[0, {room.width}] x [0, {room.depth}] m (world seed {self.spec.seed})"
+            )
+        for obj in self.scene.objects:
+            if obj.clearance(pose.x, pose.y, z) < m:
+                raise PoseError(
+                    f"pose ({pose.x:.3f}, {pose.y:.3f}) m puts the camera inside object "
+                    f"{obj.name!r} (world seed {self.spec.seed}, variant {self.spec.variant})"
+                )
+
+    def panorama(self, pose: Pose) -> tuple[NDArray[np.float32], Hits]:
+        """Noise-free radiance (grey levels, unclipped) of the cast panorama and its ray hits.
+
+        Shapes (height, width) of :attr:`panorama_geometry`.
+        """
+        hits = self._cast(pose)
+        g = self.panorama_geometry
+        pixel_angle = max(g.row_step, g.column_step)
+        footprint = hits.rho / _cos_rows(g) * np.float32(pixel_angle * TEXELS_PER_METRE)
+        footprint /= np.maximum(hits.cos_incidence, np.float32(0.15))
+        level = np.clip(np.log2(np.maximum(footprint, 1.0)), 0, LEVELS - 1)
+        return self.atlas.sample(hits.x, hits.y, level), hits
+
+    def _cast(self, pose: Pose) -> Hits:
+        self.check_pose(pose)
+        origin = (pose.x, pose.y, self.spec.camera_height)
+        return cast(self.scene, self.regions, self.panorama_geometry, origin, pose.heading)
+
+    def downsample(self, panorama: NDArray) -> NDArray:
+        """The unfolded image of a cast panorama (height, width of :attr:`panorama_geometry`):
+        crop to the unfolded rows and area-average ``SUPERSAMPLE x SUPERSAMPLE`` blocks."""
+        crop = panorama[self._rows]
+        g = self.unfolded_geometry
+        return cv2.resize(crop, (g.width, g.height), interpolation=cv2.INTER_AREA)
+
+    def render(self, pose: Pose, noise_seed: int | None) -> dict[str, NDArray[np.uint8]]:
+        """Grey images of ``pose``: "raw" (raw.height, raw.width) and "unfolded"
+        (unfolded.height, unfolded.width). ``noise_seed=None`` renders without sensor noise."""
+        hi, _ = self.panorama(pose)
+        images = {
+            "raw": fold(hi, self.panorama_geometry, self.raw_geometry, RAW_SUPERSAMPLE),
+            "unfolded": self.downsample(hi),
+        }
+        return {kind: self._expose(image, kind, noise_seed) for kind, image in images.items()}
+
+    def _expose(self, image: NDArray[np.float32], kind: str, noise_seed: int | None) -> NDArray:
+        if noise_seed is not None:
+            sigma = self.spec.noise_sigma * self.lighting.noise_scale
+            rng = np.random.default_rng([noise_seed, _KIND_STREAM[kind]])
+            noise = rng.standard_normal(image.shape, dtype=np.float32) * np.float32(sigma)
+            if kind == "raw":
+                noise *= self._annulus
+            image = image + noise
+        return np.clip(np.rint(image), 0, 255).astype(np.uint8)
+
+    def render_labels(self, pose: Pose) -> dict[str, NDArray[np.int32]]:
+        """Object id seen at each pixel (0 = room surfaces); same keys and shapes as
+        :meth:`render`. No interpolation: each pixel takes the id of the frontmost of the cast
+        samples its grey value is made from, so thin objects (chair legs) keep their pixels."""
+        hits = self._cast(pose)
+        rows = self._rows
+        return {
+            "raw": fold_labels(
+                hits.label, hits.rho, self.panorama_geometry, self.raw_geometry, RAW_SUPERSAMPLE
+            ),
+            "unfolded": frontmost(hits.label[rows], hits.rho[rows], SUPERSAMPLE),
+        }
+
+    # ------------------------------------------------------------------ description
+
+    def ground_truth(self) -> dict[str, Any]:
+        """Room, camera height and every object with its 3-D corner points (JSON-ready)."""
+        room = self.scene.room
+        return {
+            "seed": self.spec.seed,
+            "variant": self.spec.variant,
+            "room": {"width": room.width, "depth": room.depth, "height": room.height},
+            "camera_height": self.spec.camera_height,
+            "objects": [
+                {
+                    "id": k + 1,
+                    "name": obj.name,
+                    "kind": obj.kind,
+                    "variant": obj.variant,
+                    "corners": obj.corners(),
+                }
+                for k, obj in enumerate(self.scene.objects)
+            ],
+        }
+
+
+@lru_cache(maxsize=8)
+def _cos_rows(geometry: PanoramaGeometry) -> NDArray[np.float32]:
+    """cos(elevation) of a panorama's rows, (height, 1)."""
+    rows = geometry.row_to_elevation(np.arange(geometry.height))
+    out = np.cos(rows).astype(np.float32)[:, None]
+    out.setflags(write=False)
+    return out
+
+
+@lru_cache(maxsize=4)
+def _base(seed: int, room: Room, grid: Grid) -> Scene:
+    return base_scene(seed, room, grid)
+
+
+def build_world(spec: WorldSpec) -> World:
+    """The world of ``spec`` (memoised per process on ``spec.key()``)."""
+    key = spec.key()
+    if key in _worlds:
+        _worlds.move_to_end(key)
+        return _worlds[key]
+    room = Room(spec.room.width, spec.room.depth, spec.room.height)
+    grid = spec.to_grid()
+    base = _base(spec.seed, room, grid)
+    extra = variant_objects(spec.variant, spec.seed, base, grid, spec.camera_height)
+    world = World(spec, base.with_objects(extra), len(base.objects))
+    _worlds[key] = world
+    if len(_worlds) > _CACHE_SIZE:
+        _worlds.popitem(last=False)
+    return world
+
+
+def render_position(spec: WorldSpec, i: int, j: int) -> dict[str, NDArray[np.uint8]]:
+    """Images of grid position (i, j) with its position noise seed (bit-reproducible)."""
+    return build_world(spec).render(spec.pose(i, j), position_noise_seed(spec.seed, i, j))
