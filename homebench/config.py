@@ -20,6 +20,7 @@ Checks that need the databases (a goal outside the grid) happen when the run is 
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from pathlib import Path
@@ -75,14 +76,38 @@ class CurrentRange(_Strict):
 
 
 class MethodEntry(_Strict):
+    """A method with parameters; ``grid`` sweeps parameters (every combination of its lists)."""
+
     method: str
     label: str | None = None
     params: dict[str, Any] = Field(default_factory=dict)
+    grid: dict[str, list[Any]] = Field(default_factory=dict)
+
+    @field_validator("grid")
+    @classmethod
+    def _grid_lists(cls, value: dict[str, list[Any]]) -> dict[str, list[Any]]:
+        empty = [name for name, values in value.items() if not values]
+        if empty:
+            raise ValueError(f"grid: {empty[0]!r} needs at least one value")
+        return value
 
     @property
     def name(self) -> str:
         """The label shown in tables: ``label`` or the method name."""
         return self.label or self.method
+
+    def expand(self) -> list[tuple[str, dict[str, Any]]]:
+        """(label, params) of every grid point; labels name the swept values, e.g.
+        ``sift[ratio=0.7]``. Without a grid: the entry itself."""
+        if not self.grid:
+            return [(self.name, dict(self.params))]
+        names = sorted(self.grid)
+        points = []
+        for values in itertools.product(*(self.grid[n] for n in names)):
+            swept = dict(zip(names, values, strict=True))
+            tag = ",".join(f"{n}={v}" for n, v in swept.items())
+            points.append((f"{self.name}[{tag}]", {**self.params, **swept}))
+        return points
 
 
 class ReturnRatioConfig(_Strict):
@@ -143,7 +168,8 @@ class RunConfig(_Strict):
     seed: int = Field(0, ge=0)
     jobs: int = 1
     databases: dict[str, DatabaseRef]
-    conditions: list[str] = Field(min_length=1)
+    conditions: list[str] | Literal["all"] = Field(min_length=1)
+    seeds: list[int] = Field(default_factory=list)  # sweep the seed of every generated world
     goals: list[tuple[int, int]] | Literal["all"] | RandomGoals
     currents: Literal["all"] | CurrentRange = "all"
     methods: list[MethodEntry] = Field(min_length=1)
@@ -177,9 +203,17 @@ class RunConfig(_Strict):
             raise ValueError("jobs must be a positive number, or -1 for all cores")
         return value
 
+    @field_validator("seeds")
+    @classmethod
+    def _seeds(cls, value: list[int]) -> list[int]:
+        if any(seed < 0 for seed in value) or len(set(value)) != len(value):
+            raise ValueError("seeds must be distinct and non-negative")
+        return value
+
     @model_validator(mode="after")
     def _references(self) -> RunConfig:
-        for k, condition in enumerate(self.conditions):
+        conditions = [] if self.conditions == "all" else self.conditions
+        for k, condition in enumerate(conditions):
             parts = condition.split("-")
             if len(parts) != 2 or not all(parts):
                 raise ValueError(f"conditions[{k}]: {condition!r} is not 'current-goal'")
@@ -189,7 +223,7 @@ class RunConfig(_Strict):
                     f"conditions[{k}]: unknown database alias {unknown[0]!r}; "
                     f"defined: {', '.join(self.databases)}"
                 )
-        labels = [entry.name for entry in self.methods]
+        labels = [label for label, _, _ in self.method_points()]
         repeated = sorted({label for label in labels if labels.count(label) > 1})
         if repeated:
             raise ValueError(f"methods: label {repeated[0]!r} used twice; give each entry a label")
@@ -199,8 +233,24 @@ class RunConfig(_Strict):
         return self
 
     def condition_pairs(self) -> list[tuple[str, str, str]]:
-        """(condition, current alias, goal alias) for every condition."""
+        """(condition, current alias, goal alias) for every condition ("all": every ordered pair
+        of aliases, the same database twice included)."""
+        if self.conditions == "all":
+            aliases = list(self.databases)
+            return [(f"{c}-{g}", c, g) for c in aliases for g in aliases]
         return [(c, *c.split("-")) for c in self.conditions]
+
+    def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
+        """(label, method name, params) of every method entry and grid point, in config order."""
+        return [
+            (label, entry.method, params)
+            for entry in self.methods
+            for label, params in entry.expand()
+        ]
+
+    def world_seeds(self) -> list[int | None]:
+        """The seeds swept over (None: every database as configured)."""
+        return list(self.seeds) or [None]
 
 
 def config_kind(path: Path) -> str:
@@ -213,10 +263,11 @@ def load_config(path: Path) -> RunConfig:
     """Read and validate a run config; every problem is a ConfigError naming file and key."""
     config = load_model(RunConfig, path, what="config")
     for k, entry in enumerate(config.methods):
-        try:
-            registry.create(entry.method, **entry.params)
-        except HomebenchError as error:
-            raise ConfigError(f"{path}: methods.{k}: {error}") from None
-        except (TypeError, ValueError) as error:
-            raise ConfigError(f"{path}: methods.{k}.params: {error}") from None
+        for _, params in entry.expand():
+            try:
+                registry.create(entry.method, **params)
+            except HomebenchError as error:
+                raise ConfigError(f"{path}: methods.{k}: {error}") from None
+            except (TypeError, ValueError) as error:
+                raise ConfigError(f"{path}: methods.{k}.params: {error}") from None
     return config

@@ -19,6 +19,7 @@ from click.testing import CliRunner
 
 from homebench.cli import main
 from homebench.config import MetricsConfig
+from homebench.evaluation.jobs import RESULT_FORMAT
 from homebench.evaluation.results import build_tables, load_pairs
 from homebench.geometry import Grid, angular_error, world_direction, wrap_angle
 
@@ -111,8 +112,9 @@ def write_fake_run(
                 plan.append({"key": key, "condition": condition, "method": method.label,
                              "goal": list(goal)})  # fmt: skip
                 record = {
-                    "format": 1,
+                    "format": RESULT_FORMAT,
                     "key": key,
+                    "seed": None,
                     "condition": condition,
                     "method": method.label,
                     "method_name": "fake",

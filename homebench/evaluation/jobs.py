@@ -26,7 +26,7 @@ from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import write_bytes_atomic, write_text_atomic
 from homebench.geometry import home_direction
 
-RESULT_FORMAT = 1
+RESULT_FORMAT = 2  # 2: records carry the swept world seed
 
 
 @dataclass(frozen=True)
@@ -143,6 +143,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     record = {
         "format": RESULT_FORMAT,
         "key": job.key,
+        "seed": job.seed,
         "condition": job.condition,
         "method": job.method.label,
         "method_name": job.method.method,

@@ -91,11 +91,13 @@ class HomeJob:
     method: MethodSpec
     goal: ImageTask
     currents: tuple[ImageTask, ...]
+    seed: int | None = None  # the swept world seed, None without a sweep
 
     @property
     def key(self) -> str:
         return stable_hash(
             {
+                "seed": self.seed,
                 "condition": self.condition,
                 "method": self.method.key,
                 "goal": (self.goal.source.identity, self.goal.i, self.goal.j),
@@ -155,38 +157,40 @@ def select_currents(config: RunConfig, grid: Grid, goal: tuple[int, int]) -> lis
     return chosen
 
 
-def rotation_of(config: RunConfig, source: Source, i: int, j: int, columns: int) -> float:
+def rotation_of(config: RunConfig, source: Source, i: int, j: int) -> float:
     """The seeded whole-column rotation (radians) of a current view, or 0 when disabled."""
     if not config.rotate_current.enabled:
         return 0.0
-    k = int(np.random.default_rng(derived_seed(config.rotate_current.seed, source.identity, i, j))
-            .integers(columns))  # fmt: skip
-    return 2.0 * math.pi * k / columns
+    rng = np.random.default_rng(derived_seed(config.rotate_current.seed, source.identity, i, j))
+    columns = source.columns
+    return 2.0 * math.pi * int(rng.integers(columns)) / columns
 
 
-def make_plan(config: RunConfig, sources: dict[str, Source], config_path: Path | str) -> Plan:
+def make_plan(
+    config: RunConfig, sources: dict[tuple[str, int | None], Source], config_path: Path | str
+) -> Plan:
     """All jobs of a run, in a deterministic order."""
     methods = [
-        MethodSpec(e.name, e.method, tuple(sorted(e.params.items()))) for e in config.methods
+        MethodSpec(label, method, tuple(sorted(params.items())))
+        for label, method, params in config.method_points()
     ]
     home: list[HomeJob] = []
-    for condition, current_alias, goal_alias in config.condition_pairs():
-        current_src, goal_src = sources[current_alias], sources[goal_alias]
-        if current_src.grid != goal_src.grid:
-            raise ConfigError(
-                f"{config_path}: conditions: {condition!r} pairs databases with different grids "
-                f"({current_src.grid} vs {goal_src.grid})"
-            )
-        for goal in select_goals(config, goal_src.grid, config_path):
-            currents = select_currents(config, current_src.grid, goal)
-            tasks = tuple(
-                ImageTask(
-                    current_src, i, j, rotation_of(config, current_src, i, j, current_src.columns)
+    for seed in config.world_seeds():
+        for condition, current_alias, goal_alias in config.condition_pairs():
+            current_src, goal_src = sources[current_alias, seed], sources[goal_alias, seed]
+            if current_src.grid != goal_src.grid:
+                raise ConfigError(
+                    f"{config_path}: conditions: {condition!r} pairs databases with different "
+                    f"grids ({current_src.grid} vs {goal_src.grid})"
                 )
-                for i, j in currents
-            )
-            for method in methods:
-                home.append(HomeJob(condition, method, ImageTask(goal_src, *goal), tasks))
+            for goal in select_goals(config, goal_src.grid, config_path):
+                tasks = tuple(
+                    ImageTask(current_src, i, j, rotation_of(config, current_src, i, j))
+                    for i, j in select_currents(config, current_src.grid, goal)
+                )
+                for method in methods:
+                    goal_task = ImageTask(goal_src, *goal)
+                    home.append(HomeJob(condition, method, goal_task, tasks, seed))
     describe = []
     for method in {m.key: m for m in methods}.values():  # equal parameters share features
         needed = sorted(

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +26,19 @@ from homebench.geometry import Grid
 
 PLAN_FILE = "plan.json"
 GROUP = ["condition", "method"]
+#: The factors of a pair (every one a column, so tables can group by any), then its position.
+LEADING = [
+    "seed",
+    "condition",
+    "current_database",
+    "goal_database",
+    "method",
+    "method_name",
+    "goal_i",
+    "goal_j",
+    "current_i",
+    "current_j",
+]
 
 
 def write_plan_index(plan: Plan, run_dir: Path) -> None:
@@ -67,17 +80,20 @@ def load_pairs(run_dir: Path) -> PairTable:
             )
             continue
         frame = pd.DataFrame.from_records(record["rows"])
-        for column in ("condition", "method", "method_name", "goal_i", "goal_j"):
+        for column in reversed(LEADING[:-2]):
             frame.insert(0, column, record[column])
+        for name, value in sorted(record["params"].items()):
+            frame[f"param.{name}"] = json.dumps(value) if isinstance(value, list | dict) else value
         frame["grid"] = json.dumps(record["grid"])
         frames.append(frame)
     if not frames:
         return PairTable(pd.DataFrame(), tuple(missing))
     pairs = pd.concat(frames, ignore_index=True)
+    pairs["seed"] = pairs["seed"].astype("Int64")
     pairs["ae_deg"] = np.degrees(pairs["ae"].astype(float))
-    order = ["condition", "method", "goal_i", "goal_j", "current_i", "current_j"]
+    order = ["seed", "condition", "method", "goal_i", "goal_j", "current_i", "current_j"]
     pairs = pairs.sort_values(order, kind="stable").reset_index(drop=True)
-    leading = ["condition", "method", "method_name", "goal_i", "goal_j", "current_i", "current_j"]
+    leading = LEADING
     return PairTable(
         pairs[leading + [c for c in pairs.columns if c not in leading]], tuple(missing)
     )
@@ -88,23 +104,25 @@ def _grid_of(group: pd.DataFrame) -> Grid:
     return Grid(tuple(spec["shape"]), spec["spacing"], tuple(spec["origin"]))
 
 
-def goal_fields(pairs: pd.DataFrame) -> list[tuple[tuple[str, str, int, int], HomeField, bool]]:
+def goal_fields(
+    pairs: pd.DataFrame,
+) -> list[tuple[tuple[int | None, str, str, int, int], HomeField, bool]]:
     """One world-frame home field per (condition, method, goal) and whether it covers the grid.
 
     A field covers the grid when every position but the goal has a pair; return ratios of
     fields that do not are not comparable with the paper's and are reported as NaN.
     """
     fields = []
-    for (condition, method, gi, gj), group in pairs.groupby(
-        ["condition", "method", "goal_i", "goal_j"], sort=True
+    for (seed, condition, method, gi, gj), group in pairs.groupby(
+        ["seed", "condition", "method", "goal_i", "goal_j"], sort=True, dropna=False
     ):
         grid = _grid_of(group)
         angles = np.full(grid.shape, np.nan)
         estimates = group["estimate_world"].astype(float).to_numpy()
         angles[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = estimates
         complete = len(group) == grid.size - 1
-        fields.append(((condition, method, int(gi), int(gj)), HomeField(grid, (gi, gj), angles),
-                       complete))  # fmt: skip
+        key = (None if pd.isna(seed) else int(seed), condition, method, int(gi), int(gj))
+        fields.append((key, HomeField(grid, (gi, gj), angles), complete))
     return fields
 
 
@@ -112,13 +130,13 @@ def goal_table(pairs: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
     """Return ratio (and catchment) per condition, method and goal (the paper's Figure 10)."""
     rr = metrics.return_ratio
     rows = []
-    for (condition, method, gi, gj), field, complete in goal_fields(pairs):
-        row = {"condition": condition, "method": method, "goal_i": gi, "goal_j": gj}
+    for (seed, condition, method, gi, gj), home_field, complete in goal_fields(pairs):
+        row = {"seed": seed, "condition": condition, "method": method, "goal_i": gi, "goal_j": gj}
         if complete:
             max_travel = rr.max_travel
-            row["rr"] = return_ratio(field, rr.rh, rr.success_radius, max_travel).rr
+            row["rr"] = return_ratio(home_field, rr.rh, rr.success_radius, max_travel).rr
             if metrics.catchment:
-                row["catchment"] = catchment(field).ratio
+                row["catchment"] = catchment(home_field).ratio
         else:
             row["rr"] = math.nan
             if metrics.catchment:
@@ -142,17 +160,24 @@ def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
 
 
-def summary_table(pairs: pd.DataFrame, goals: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
-    """Method x condition headline: AE, AHC, RR, share without estimate, times."""
+def summary_table(
+    pairs: pd.DataFrame, goals: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP
+) -> pd.DataFrame:
+    """Headline per ``by`` (method x condition; with "seed" first, per world seed too): AE,
+    AHC, RR (mean over goals), share without estimate, times."""
     rows = []
-    for (condition, method), group in pairs.groupby(GROUP, sort=True):
+    for key, group in pairs.groupby(by, sort=True, dropna=False):
+        factors = dict(zip(by, key, strict=True))
+        mask = np.ones(len(goals), dtype=bool)
+        for name, value in factors.items():
+            column = goals[name]
+            mask &= column.isna().to_numpy() if pd.isna(value) else (column == value).to_numpy()
+        per_goal = goals[mask]
         ae = group["ae"].astype(float)
         summary = ae_summary(ae)
-        per_goal = goals[(goals["condition"] == condition) & (goals["method"] == method)]
         describe_ms = pd.concat([group["describe_ms"], group["goal_describe_ms"]])
         row = {
-            "condition": condition,
-            "method": method,
+            **factors,
             "pairs": summary["n"],
             "no_estimate_share": summary["missing_share"],
             "mean_ae_deg": summary["mean_deg"],
@@ -170,11 +195,14 @@ def summary_table(pairs: pd.DataFrame, goals: pd.DataFrame, metrics: MetricsConf
 
 @dataclass(frozen=True)
 class RunTables:
+    """The tables of a run; ``summary_by_seed`` is empty unless the run swept world seeds."""
+
     pairs: pd.DataFrame
     summary: pd.DataFrame
     goals: pd.DataFrame
     ahc: pd.DataFrame
     missing_jobs: tuple[str, ...]
+    summary_by_seed: pd.DataFrame = field(default_factory=pd.DataFrame)
 
 
 def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
@@ -182,13 +210,16 @@ def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
     if loaded.pairs.empty:
         empty = pd.DataFrame()
         return RunTables(empty, empty, empty, empty, loaded.missing_jobs)
-    goals = goal_table(loaded.pairs, metrics)
+    pairs = loaded.pairs
+    goals = goal_table(pairs, metrics)
+    swept = pairs["seed"].nunique(dropna=False) > 1
     return RunTables(
-        loaded.pairs,
-        summary_table(loaded.pairs, goals, metrics),
+        pairs,
+        summary_table(pairs, goals, metrics),
         goals,
-        ahc_table(loaded.pairs, metrics),
+        ahc_table(pairs, metrics),
         loaded.missing_jobs,
+        summary_table(pairs, goals, metrics, ["seed", *GROUP]) if swept else pd.DataFrame(),
     )
 
 
@@ -206,7 +237,10 @@ def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Pa
         path = folder / "pairs.csv"
         write_text_atomic(path, pairs.to_csv(index=False, float_format="%.6g"))
     written.append(path)
-    for name, table in (("summary", tables.summary), ("goals", tables.goals), ("ahc", tables.ahc)):
+    named = [("summary", tables.summary), ("goals", tables.goals), ("ahc", tables.ahc)]
+    if not tables.summary_by_seed.empty:
+        named.append(("summary_by_seed", tables.summary_by_seed))
+    for name, table in named:
         path = folder / f"{name}.csv"
         write_text_atomic(path, table.to_csv(index=False, float_format="%.6g"))
         written.append(path)

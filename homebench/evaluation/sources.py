@@ -15,6 +15,7 @@ from homebench.config import DatabaseRef, RunConfig
 from homebench.data import catalog
 from homebench.data.database import GridDatabase
 from homebench.data.generate import generate
+from homebench.data.synth.spec import WorldSpec
 from homebench.errors import DataError
 from homebench.geometry import Grid, PanoramaGeometry
 from homebench.hashing import stable_hash
@@ -37,6 +38,7 @@ class Source:
     path: Path | None
     grid: Grid
     unfold_geometry: PanoramaGeometry | None  # to unfold raw images when there are no unfolded
+    seed: int | None = None  # the world's seed for generated sets
 
     @property
     def columns(self) -> int:
@@ -48,23 +50,37 @@ class Source:
         return geometry.width
 
 
-def _prepare(alias: str, ref: DatabaseRef, config: RunConfig, jobs: int) -> Source:
+def _with_seed(spec: WorldSpec, seed: int | None) -> WorldSpec:
+    return spec if seed is None else spec.model_copy(update={"seed": seed})
+
+
+def _prepare(
+    alias: str, ref: DatabaseRef, config: RunConfig, jobs: int, seed: int | None
+) -> Source:
+    path = ref.path
     if ref.world is not None:
-        locator, path = str(generate(ref.world, jobs=jobs, name=alias)), None
+        locator = str(generate(_with_seed(ref.world, seed), jobs=jobs, name=alias))
         database = catalog.resolve(locator)
     else:
         assert ref.name is not None
-        locator, path = ref.name, ref.path
-        manifest, _ = catalog.find_manifest(locator)
-        if manifest.generator is not None:
+        manifest, _ = catalog.find_manifest(ref.name)
+        generator = manifest.generator
+        if generator is not None and seed is not None and seed != generator.spec.seed:
+            spec = _with_seed(generator.spec, seed)
+            locator = str(generate(spec, jobs=jobs, name=manifest.name))
+            database = catalog.resolve(locator)
+        elif generator is not None:
+            locator = ref.name
             database = catalog.ensure_generated(locator, jobs=jobs)
         else:
+            locator = ref.name
             database = catalog.resolve(locator, path)
     database.check_layout()
     manifest = database.manifest
+    generator = manifest.generator
     identity = (
-        f"{manifest.name}-{manifest.generator.spec.key()}"
-        if manifest.generator is not None
+        f"{manifest.name}-{generator.spec.key()}"
+        if generator is not None
         else f"{manifest.name}-{stable_hash(str(database.root.resolve()), 12)}"
     )
     needs_unfold = "unfolded" not in manifest.kinds
@@ -75,14 +91,17 @@ def _prepare(alias: str, ref: DatabaseRef, config: RunConfig, jobs: int) -> Sour
         path=path,
         grid=database.grid,
         unfold_geometry=config.unfold.geometry() if needs_unfold else None,
+        seed=generator.spec.seed if generator is not None else None,
     )
 
 
-def prepare_sources(config: RunConfig, jobs: int) -> dict[str, Source]:
-    """Sources of every database alias used by a condition (generating worlds as needed)."""
+def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, int | None], Source]:
+    """Sources of every database alias used by a condition, per swept world seed (generating
+    worlds as needed). Keys: (alias, seed), seed None when the config sweeps no seeds."""
     used = {alias for _, current, goal in config.condition_pairs() for alias in (current, goal)}
     return {
-        alias: _prepare(alias, ref, config, jobs)
+        (alias, seed): _prepare(alias, ref, config, jobs, seed)
+        for seed in config.world_seeds()
         for alias, ref in config.databases.items()
         if alias in used
     }
