@@ -154,7 +154,10 @@ class UnfoldConfig(_Strict):
 
 
 class Check(_Strict):
-    """Thresholds a method must meet in every condition for ``homebench run --check``."""
+    """Thresholds a method must meet for ``homebench run --check``, in every condition or in
+    the ``conditions`` listed."""
+
+    conditions: list[str] | None = None
 
     ahc_min: float | None = Field(None, ge=-1, le=1)
     rr_min: float | None = Field(None, ge=0, le=1)
@@ -230,6 +233,11 @@ class RunConfig(_Strict):
         unknown = sorted(set(self.checks) - set(labels))
         if unknown:
             raise ValueError(f"checks: no method entry labelled {unknown[0]!r}")
+        names = [name for name, _, _ in self.condition_pairs()]
+        for label, check in self.checks.items():
+            missing = [c for c in check.conditions or [] if c not in names]
+            if missing:
+                raise ValueError(f"checks.{label}.conditions: {missing[0]!r} is not a condition")
         return self
 
     def condition_pairs(self) -> list[tuple[str, str, str]]:

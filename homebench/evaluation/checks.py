@@ -26,6 +26,8 @@ def failed_checks(summary: pd.DataFrame, checks: dict[str, Check]) -> list[str]:
     reasons = []
     for label, check in sorted(checks.items()):
         rows = summary[summary["method"] == label] if not summary.empty else summary
+        if check.conditions is not None and not rows.empty:
+            rows = rows[rows["condition"].isin(check.conditions)]
         if rows.empty:
             reasons.append(f"{label}: no results to check")
             continue

@@ -1,0 +1,34 @@
+"""The configs in configs/ load, and the smoke benchmark passes its own checks end to end."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+from click.testing import CliRunner
+
+from homebench.cli import main
+from homebench.config import config_kind, load_config
+from homebench.route_config import load_route_config
+
+CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
+
+
+@pytest.mark.parametrize("path", CONFIGS, ids=lambda p: p.name)
+def test_shipped_config_is_valid(path: Path) -> None:
+    if config_kind(path) == "route":
+        assert load_route_config(path).routes
+    else:
+        assert load_config(path).methods
+
+
+def test_smoke_benchmark_passes_its_checks(tmp_path: Path) -> None:
+    data = yaml.safe_load((Path(__file__).parent.parent / "configs" / "smoke.yaml").read_text())
+    data["output"] = str(tmp_path / "smoke")
+    config = tmp_path / "smoke.yaml"
+    config.write_text(yaml.safe_dump(data))
+    result = CliRunner().invoke(main, ["run", str(config), "--check", "--no-progress"])
+    assert result.exit_code == 0, result.output
+    assert "all 4 method check(s) passed" in result.stdout
+    assert (tmp_path / "smoke" / "report" / "report.pdf").is_file()
