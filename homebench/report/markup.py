@@ -7,45 +7,42 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from homebench.report.pages import run_summary
-from homebench.report.run_data import RunData
+from homebench.report.run_data import RunInfo
 from homebench.report.tables import TableView, to_markdown
 
 
 @dataclass(frozen=True)
 class FigureEntry:
-    """A written figure: its PNG, the condition it belongs to (None: the whole run), caption."""
+    """A written figure: its PNG, the section heading it goes under, its caption."""
 
     path: Path
-    condition: str | None
+    section: str
     caption: str
 
 
-def _sections(run: RunData, figures: Sequence[FigureEntry]) -> list[tuple[str, list[FigureEntry]]]:
-    """Figures grouped by condition, in the run's condition order."""
-    groups = []
-    for condition in [*run.conditions, None]:
-        chosen = [f for f in figures if f.condition == condition]
-        if chosen:
-            title = "Run" if condition is None else run.condition_title(condition)
-            groups.append((title, chosen))
+def _sections(figures: Sequence[FigureEntry]) -> dict[str, list[FigureEntry]]:
+    """Figures grouped by section, sections in the order of their first figure."""
+    groups: dict[str, list[FigureEntry]] = {}
+    for entry in figures:
+        groups.setdefault(entry.section, []).append(entry)
     return groups
 
 
 def markdown_report(
-    run: RunData, views: Sequence[TableView], figures: Sequence[FigureEntry], warnings: list[str],
-    folder: Path,
+    run: RunInfo, summary: dict[str, list[str]], views: Sequence[TableView],
+    figures: Sequence[FigureEntry], warnings: list[str], folder: Path,
 ) -> str:  # fmt: skip
-    """The report as Markdown; figure links are relative to ``folder``."""
+    """The report as Markdown: ``summary`` (the title page), tables and figures; figure links
+    are relative to ``folder``."""
     lines = [f"# homebench report: {run.name}", ""]
-    for heading, section in run_summary(run).items():
+    for heading, section in summary.items():
         lines += [f"**{heading}**", "", *(f"- {line}" for line in section), ""]
     if warnings:
         lines += ["## Warning: missing job results", "", *(f"- {w}" for w in warnings), ""]
     lines += ["## Tables", ""]
     for view in views:
         lines += [to_markdown(view)]
-    for title, entries in _sections(run, figures):
+    for title, entries in _sections(figures).items():
         lines += [f"## {title}", ""]
         for entry in entries:
             lines += [f"![{entry.caption}]({entry.path.relative_to(folder).as_posix()})", ""]
@@ -53,13 +50,14 @@ def markdown_report(
 
 
 def html_report(
-    run: RunData, views: Sequence[TableView], figures: Sequence[FigureEntry], warnings: list[str],
-    folder: Path,
+    run: RunInfo, summary: dict[str, list[str]], views: Sequence[TableView],
+    figures: Sequence[FigureEntry], warnings: list[str], folder: Path,
 ) -> str:  # fmt: skip
-    """The report as one HTML page; figures are linked relative to ``folder``."""
+    """The report as one HTML page, as :func:`markdown_report`; figures are linked relative
+    to ``folder``."""
     e = html.escape
     body = [f"<h1>homebench report: {e(run.name)}</h1>"]
-    for heading, section in run_summary(run).items():
+    for heading, section in summary.items():
         items = "".join(f"<li>{e(line)}</li>" for line in section)
         body.append(f"<h3>{e(heading)}</h3><ul>{items}</ul>")
     if warnings:
@@ -69,7 +67,7 @@ def html_report(
     for view in views:
         table = view.text_frame().to_html(index=False, border=0, classes="table")
         body.append(f"<h3>{e(view.title)}</h3>{table}")
-    for title, entries in _sections(run, figures):
+    for title, entries in _sections(figures).items():
         body.append(f"<h2>{e(title)}</h2>")
         for entry in entries:
             src = e(entry.path.relative_to(folder).as_posix())

@@ -7,7 +7,7 @@ from typing import Any
 
 from matplotlib.figure import Figure
 
-from homebench.report.run_data import RunData
+from homebench.report.run_data import RunData, RunInfo
 from homebench.report.style import new_figure
 from homebench.report.tables import TableView
 
@@ -18,6 +18,8 @@ PAGE_LINES = 36
 MAX_WARNINGS = 200
 #: Table rows per PDF page.
 TABLE_ROWS = 24
+#: Characters per line of a table header on the PDF pages (longer headers wrap).
+HEADER_WIDTH = 16
 
 
 def _goals_text(goals: Any) -> str:
@@ -49,20 +51,34 @@ def _method_text(entry: dict[str, Any]) -> str:
     return f"{label}: {entry['method']}" + (f" ({params})" if params else "")
 
 
+def run_lines(run: RunInfo) -> list[str]:
+    """The title page's "Run" section: name, output folder, config file, start."""
+    return [
+        f"name: {run.name}",
+        f"output: {run.config.get('output')}",
+        f"config file: {run.environment.get('config_file')}",
+        f"started: {run.started.strftime('%Y-%m-%d %H:%M:%S %Z')}",
+    ]
+
+
+def environment_lines(run: RunInfo) -> list[str]:
+    """The title page's "Environment" section: host and package versions."""
+    env = run.environment
+    return [
+        f"host: {env.get('host')} ({env.get('platform')}, {env.get('cpu_count')} CPUs)",
+        "versions: " + ", ".join(f"{k} {v}" for k, v in env.get("versions", {}).items()),
+    ]
+
+
 def run_summary(run: RunData) -> dict[str, list[str]]:
-    """The title page's sections: heading -> lines (config, environment, results)."""
-    config, env, metrics = run.config, run.environment, run.metrics
+    """A grid run's title page sections: heading -> lines (config, environment, results)."""
+    config, metrics = run.config, run.metrics
     ahc, rr = metrics.ahc, metrics.return_ratio
     databases = [f"{alias}: {run.database_label(alias)}" for alias in config.get("databases", {})]
     missing = len(run.tables.missing_jobs)
     n_jobs = run.tables.pairs.groupby(["condition", "method", "goal_i", "goal_j"]).ngroups
     return {
-        "Run": [
-            f"name: {run.name}",
-            f"output: {config.get('output')}",
-            f"config file: {env.get('config_file')}",
-            f"started: {run.started.strftime('%Y-%m-%d %H:%M:%S %Z')}",
-        ],
+        "Run": run_lines(run),
         "Experiment": [
             *(f"database {line}" for line in databases),
             f"conditions (current-goal): {', '.join(config.get('conditions', []))}",
@@ -83,16 +99,22 @@ def run_summary(run: RunData) -> dict[str, list[str]]:
             f"{len(run.tables.pairs)} pairs from {n_jobs} job(s)",
             f"missing or corrupt job files: {missing}{' (see the next page)' if missing else ''}",
         ],
-        "Environment": [
-            f"host: {env.get('host')} ({env.get('platform')}, {env.get('cpu_count')} CPUs)",
-            "versions: " + ", ".join(f"{k} {v}" for k, v in env.get("versions", {}).items()),
-        ],
+        "Environment": environment_lines(run),
     }
+
+
+def _hanging(line: str) -> str:
+    """The indent of a long ``line``'s continuation lines: its own indent and four spaces."""
+    return line[: len(line) - len(line.lstrip())] + "    "
 
 
 def _text_pages(title: str, lines: list[str]) -> list[Figure]:
     """``lines`` wrapped to LINE_WIDTH, PAGE_LINES per page, under ``title``."""
-    wrapped = [part for line in lines for part in textwrap.wrap(line, LINE_WIDTH) or [""]]
+    wrapped = [
+        part
+        for line in lines
+        for part in textwrap.wrap(line, LINE_WIDTH, subsequent_indent=_hanging(line)) or [""]
+    ]
     pages = []
     for start in range(0, max(len(wrapped), 1), PAGE_LINES):
         fig = new_figure()
@@ -104,10 +126,11 @@ def _text_pages(title: str, lines: list[str]) -> list[Figure]:
     return pages
 
 
-def title_pages(run: RunData) -> list[Figure]:
-    """The title page: the run's config, results and environment (continued if long)."""
+def title_pages(run: RunInfo, summary: dict[str, list[str]]) -> list[Figure]:
+    """The title page: ``summary``'s sections (config, results, environment), continued if
+    long."""
     lines = []
-    for heading, section in run_summary(run).items():
+    for heading, section in summary.items():
         lines += [heading.upper(), *(f"    {line}" for line in section), ""]
     return _text_pages(f"homebench report: {run.name}", lines)
 
@@ -118,7 +141,7 @@ def warning_pages(warnings: list[str]) -> list[Figure]:
     more = len(warnings) - len(shown)
     lines = [
         "This run is incomplete: the jobs below have no valid result file (missing, corrupt or",
-        "of another job). Their pairs are absent from every table and figure of this report.",
+        "of another job). Their results are absent from every table and figure of this report.",
         "",
         *shown,
         *([f"... and {more} more"] if more else []),
@@ -135,15 +158,18 @@ def table_pages(view: TableView) -> list[Figure]:
         fig = new_figure()
         ax = fig.add_subplot()
         ax.axis("off")
-        table = ax.table(cellText=chunk.to_numpy().tolist(), colLabels=list(chunk.columns),
+        labels = ["\n".join(textwrap.wrap(c, HEADER_WIDTH)) for c in chunk.columns]
+        table = ax.table(cellText=chunk.to_numpy().tolist(), colLabels=labels,
                          loc="upper center", cellLoc="right", colLoc="center")  # fmt: skip
         table.auto_set_font_size(False)
         table.set_fontsize(8)
         table.auto_set_column_width(list(range(len(chunk.columns))))
         table.scale(1.0, 1.5)
+        header_lines = max(label.count("\n") + 1 for label in labels)
         for (row, column), cell in table.get_celld().items():
             if row == 0:
                 cell.set_text_props(weight="bold")
+                cell.set_height(cell.get_height() * header_lines)
             elif view.alignment()[column] == "left":
                 cell.set_text_props(ha="left")
         part = f" ({start // TABLE_ROWS + 1})" if len(text) > TABLE_ROWS else ""

@@ -19,14 +19,17 @@ ENVIRONMENT_FILE = "environment.json"
 
 
 @dataclass(frozen=True)
-class RunData:
-    """Everything a report draws from: ``config`` and ``environment`` as written by the run."""
+class RunInfo:
+    """What every run folder holds: ``config`` and ``environment`` as written by the run."""
 
     run_dir: Path
     config: dict[str, Any]
     environment: dict[str, Any]
-    metrics: MetricsConfig
-    tables: RunTables
+
+    @property
+    def kind(self) -> str:
+        """The experiment kind: "route" (``kind: route``) or "grid"."""
+        return "route" if self.config.get("kind") == "route" else "grid"
 
     @property
     def name(self) -> str:
@@ -43,6 +46,14 @@ class RunData:
         if value is None:
             raise DataError(f"{self.run_dir / ENVIRONMENT_FILE}: no valid 'started' date")
         return value if value.tzinfo else value.replace(tzinfo=UTC)
+
+
+@dataclass(frozen=True)
+class RunData(RunInfo):
+    """Everything a grid report draws from: the run's metrics settings and tables."""
+
+    metrics: MetricsConfig
+    tables: RunTables
 
     @property
     def conditions(self) -> list[str]:
@@ -85,20 +96,37 @@ def _read_json(path: Path) -> dict[str, Any]:
     return value
 
 
-def load_run(run_dir: Path) -> RunData:
-    """Read a run folder; DataError naming the file when it is not one or is corrupt.
-
-    Missing or corrupt job files do not raise: they are listed in ``tables.missing_jobs``.
-    """
+def read_run_info(run_dir: Path) -> RunInfo:
+    """Read a run folder's config and environment; DataError naming the file when it is not
+    a run folder or a file is corrupt."""
     run_dir = Path(run_dir)
     if not run_dir.is_dir():
         raise DataError(f"{run_dir}: no such run folder")
-    config = _read_json(run_dir / CONFIG_FILE)
-    environment = _read_json(run_dir / ENVIRONMENT_FILE)
+    return RunInfo(
+        run_dir, _read_json(run_dir / CONFIG_FILE), _read_json(run_dir / ENVIRONMENT_FILE)
+    )
+
+
+def validation_error(path: Path, prefix: str, error: ValidationError) -> DataError:
+    """``error``'s first problem as a DataError naming ``path`` and the key under ``prefix``."""
+    first = error.errors()[0]
+    where = ".".join(str(p) for p in (prefix, *first["loc"]) if p != "")
+    return DataError(f"{path}: {where}: {first['msg']}")
+
+
+def grid_run(info: RunInfo) -> RunData:
+    """The metrics settings and tables of a grid run.
+
+    Missing or corrupt job files do not raise: they are listed in ``tables.missing_jobs``.
+    """
     try:
-        metrics = MetricsConfig.model_validate(config.get("metrics", {}))
+        metrics = MetricsConfig.model_validate(info.config.get("metrics", {}))
     except ValidationError as error:
-        first = error.errors()[0]
-        where = ".".join(str(p) for p in first["loc"])
-        raise DataError(f"{run_dir / CONFIG_FILE}: metrics.{where}: {first['msg']}") from None
-    return RunData(run_dir, config, environment, metrics, build_tables(run_dir, metrics))
+        raise validation_error(info.run_dir / CONFIG_FILE, "metrics", error) from None
+    tables = build_tables(info.run_dir, metrics)
+    return RunData(info.run_dir, info.config, info.environment, metrics, tables)
+
+
+def load_run(run_dir: Path) -> RunData:
+    """Read a grid run folder; DataError naming the file when it is not one or is corrupt."""
+    return grid_run(read_run_info(run_dir))

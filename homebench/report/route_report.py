@@ -1,0 +1,311 @@
+"""The report of a route-homing run (``kind: route``, seed 000): trials, tables, figures.
+
+A route run's folder holds ``config.resolved.json`` (a :class:`RouteConfig`), which says what
+trials there should be, and ``routes/<trial>.json`` per finished trial
+(:mod:`homebench.evaluation.route_homing`). A trial file that is missing, corrupt or of
+another configuration (its key differs) becomes a warning line, as a grid run's job files do.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+from matplotlib.figure import Figure
+from pydantic import BaseModel, ValidationError
+
+from homebench.errors import DataError
+from homebench.evaluation.route_homing import RouteJob, RouteTrial, plan_trials
+from homebench.report.pages import environment_lines, run_lines
+from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
+from homebench.report.run_data import CONFIG_FILE, RunInfo, validation_error
+from homebench.report.style import MAX_COLUMNS, method_styles
+from homebench.report.tables import FIXED0, FIXED1, FIXED2, Digits, TableView, make_view
+from homebench.route_config import RouteConfig, RouteSpec
+
+#: The method that homes visually in a route run (its label in tables and figures).
+ROUTE_METHOD = "klt-sector"
+#: Trajectory panels per page (one row).
+PANELS_PER_PAGE = MAX_COLUMNS
+#: The status of a visual homing run that reached home.
+REACHED = "reached"
+#: Table columns: source column -> (header with unit, digits or None for text, scale).
+Columns = dict[str, tuple[str, Digits | None, float]]
+
+#: Columns of the per-trial table: summary key -> (header, digits, scale); None: text.
+TRIAL_COLUMNS: Columns = {
+    "trial": ("trial", None, 1.0),
+    "driven_m": ("route length [m]", FIXED2, 1.0),
+    "frames": ("frames", FIXED0, 1.0),
+    "features": ("features tracked", FIXED0, 1.0),
+    "n_intermediate": ("intermediate positions", FIXED0, 1.0),
+    "visual_status": ("visual status", None, 1.0),
+    "visual_error_m": ("visual error [cm]", FIXED2, 100.0),
+    "visual_heading_error_deg": ("visual heading error [deg]", FIXED2, 1.0),
+    "odometry_error_m": ("odometry error [cm]", FIXED2, 100.0),
+    "odometry_heading_error_deg": ("odometry heading error [deg]", FIXED2, 1.0),
+    "odometry_drift_at_end_m": ("odometry drift at route end [cm]", FIXED2, 100.0),
+}
+#: Summary keys every trial file must hold (the tables' sources).
+SUMMARY_KEYS = frozenset({*TRIAL_COLUMNS, "route", "length_m"})
+#: Columns of the per-length table: aggregate -> (header, digits, scale); None: text.
+LENGTH_COLUMNS: Columns = {
+    "route": ("route", None, 1.0),
+    "length_m": ("length [m]", FIXED2, 1.0),
+    "trials": ("trials", FIXED0, 1.0),
+    "reached": ("reached home", FIXED0, 1.0),
+    "driven_m": ("route length [m]", FIXED2, 1.0),
+    "n_intermediate": ("intermediate positions", FIXED1, 1.0),
+    "visual_mean": ("visual error mean [cm]", FIXED2, 100.0),
+    "visual_max": ("visual error max [cm]", FIXED2, 100.0),
+    "odometry_mean": ("odometry error mean [cm]", FIXED2, 100.0),
+    "odometry_max": ("odometry error max [cm]", FIXED2, 100.0),
+    "visual_heading": ("visual heading error [deg]", FIXED2, 1.0),
+    "odometry_heading": ("odometry heading error [deg]", FIXED2, 1.0),
+}
+
+
+@dataclass(frozen=True)
+class TrialData:
+    """One finished trial: its plan entry, its ``summary`` (the table's row) and its poses."""
+
+    trial: RouteTrial
+    summary: dict[str, Any]
+    result: RouteResult
+
+
+@dataclass(frozen=True)
+class RouteRun:
+    """A route run as the report sees it: the config, the finished trials in plan order, and
+    one warning line per planned trial without a valid file."""
+
+    info: RunInfo
+    config: RouteConfig
+    trials: list[TrialData]
+    planned: int
+    warnings: list[str]
+
+
+def _trial_data(record: dict[str, Any], trial: RouteTrial) -> TrialData:
+    """The trial's summary and poses; KeyError, TypeError or ValueError when malformed."""
+    summary = record["summary"]
+    if not isinstance(summary, dict):
+        raise TypeError("'summary' is not an object")
+    absent = sorted(SUMMARY_KEYS - summary.keys())
+    if absent:
+        raise KeyError(f"summary.{absent[0]}")
+    result = RouteResult(
+        ROUTE_METHOD, record["outbound"], record["homing"], record["intermediate"],
+        record["odometry"], trial=trial.name, planned_length_m=trial.length,
+    )  # fmt: skip
+    return TrialData(trial, summary, result)
+
+
+def _load_trial(job: RouteJob, run_dir: Path) -> TrialData | str:
+    """The trial of ``job``, or why it has none: "routes/x.json (trial x: missing)"."""
+    path = job.result_path(run_dir)
+    where = f"{path.relative_to(run_dir).as_posix()} (trial {job.trial.name}"
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return f"{where}: missing)"
+    except (OSError, ValueError) as error:
+        return f"{where}: corrupt, {error})"
+    if not isinstance(record, dict):
+        return f"{where}: corrupt, not a JSON object)"
+    if record.get("key") != job.key:
+        return f"{where}: of another configuration, key {record.get('key')} != {job.key})"
+    try:
+        return _trial_data(record, job.trial)
+    except KeyError as error:
+        return f"{where}: corrupt, no {error})"
+    except (TypeError, ValueError) as error:
+        return f"{where}: corrupt, {error})"
+
+
+def load_route_run(info: RunInfo) -> RouteRun:
+    """The trials of the route run ``info``; DataError when its config is invalid or no
+    trial has a valid file."""
+    try:
+        config = RouteConfig.model_validate(info.config)
+    except ValidationError as error:
+        raise validation_error(info.run_dir / CONFIG_FILE, "", error) from None
+    trials, warnings = [], []
+    plan = plan_trials(config)
+    for trial in plan:
+        loaded = _load_trial(RouteJob(config, trial), info.run_dir)
+        (warnings if isinstance(loaded, str) else trials).append(loaded)
+    if not trials:
+        shown = "; ".join(warnings[:3]) + (" ..." if len(warnings) > 3 else "")
+        raise DataError(f"{info.run_dir}: no trial results to report on (missing: {shown})")
+    return RouteRun(info, config, trials, len(plan), warnings)
+
+
+# --------------------------------------------------------------------------- title page
+
+
+def _params(model: BaseModel) -> str:
+    return ", ".join(f"{k}={v!r}" for k, v in sorted(model.model_dump(mode="json").items()))
+
+
+def _tracker_text(params: dict[str, Any]) -> str:
+    if not params:
+        return "KltTracker defaults"
+    return ", ".join(f"{k}={v!r}" for k, v in sorted(params.items()))
+
+
+def _route_line(route: RouteSpec) -> str:
+    heading = (
+        "along the first segment" if route.heading_deg is None else f"{route.heading_deg:g} deg"
+    )
+    lengths = ", ".join(f"{x:g}" for x in route.trial_lengths())
+    return (
+        f"route {route.name}: {len(route.waypoints)} waypoints, {route.length:.2f} m, home "
+        f"({route.waypoints[0][0]:g}, {route.waypoints[0][1]:g}) m, heading {heading}; "
+        f"trials over the first {lengths} m, {route.repeats} each"
+    )
+
+
+def _results_lines(run: RouteRun) -> list[str]:
+    frame = trial_frame(run)
+    reached = int((frame["visual_status"] == REACHED).sum())
+    missing = len(run.warnings)
+    visual = 100 * frame["visual_error_m"].astype(float)
+    odometry = 100 * frame["odometry_error_m"].astype(float)
+    return [
+        f"{len(run.trials)} of {run.planned} planned trials; missing or corrupt trial files: "
+        f"{missing}{' (see the next page)' if missing else ''}",
+        f"visual homing ({ROUTE_METHOD}) reached home in {reached} of {len(run.trials)} trials",
+        f"final position error, median over trials: visual {visual.median():.2f} cm, odometry "
+        f"{odometry.median():.2f} cm (max {visual.max():.2f} and {odometry.max():.2f} cm)",
+    ]
+
+
+def route_summary(run: RouteRun) -> dict[str, list[str]]:
+    """A route run's title page sections: heading -> lines (config, results, environment)."""
+    c = run.config
+    room = c.world.room
+    return {
+        "Run": run_lines(run.info),
+        "Experiment": [
+            "route homing (seed 000): outbound route with KLT tracking, intermediate positions "
+            "from the feature life-cycles, homing leg by leg with the sector law; odometry "
+            "homing from the same end pose as the baseline",
+            f"world: generated, variant {c.world.variant} (seed {c.world.seed}), room "
+            f"{room.width:g} x {room.depth:g} x {room.height:g} m, panoramas "
+            f"{c.world.unfolded.width} px wide, noise sigma {c.world.noise_sigma:g}",
+            *(_route_line(route) for route in c.routes),
+            f"motion: {_params(c.motion)}",
+            f"odometry drift: {_params(c.drift)}",
+            f"tracker: {_tracker_text(c.tracker)}",
+            f"homing: {_params(c.homing)}",
+            f"seed: {c.seed}",
+        ],
+        "Results": _results_lines(run),
+        "Environment": environment_lines(run.info),
+    }
+
+
+# --------------------------------------------------------------------------- tables
+
+
+def trial_frame(run: RouteRun) -> pd.DataFrame:
+    """The trials' summaries, one row per trial in plan order (the run's routes.csv)."""
+    return pd.DataFrame([trial.summary for trial in run.trials])
+
+
+def _scaled(frame: pd.DataFrame, columns: Columns) -> tuple[pd.DataFrame, dict[str, Digits]]:
+    """``frame``'s ``columns`` renamed to their headers, numbers scaled; the headers' digits."""
+    out = pd.DataFrame(index=frame.index)
+    digits = {}
+    for source, (header, rule, scale) in columns.items():
+        if rule is None:
+            out[header] = frame[source].astype(str)
+        else:
+            out[header] = pd.to_numeric(frame[source], errors="coerce").astype(float) * scale
+            digits[header] = rule
+    return out, digits
+
+
+def trials_view(run: RouteRun) -> TableView:
+    """One row per trial: route length, features, intermediate positions, final errors."""
+    frame, digits = _scaled(trial_frame(run), TRIAL_COLUMNS)
+    title = "Route homing per trial: visual homing and odometry, final errors at home"
+    return make_view("routes", title, frame, digits)
+
+
+def by_length_view(run: RouteRun) -> TableView:
+    """One row per route and planned length: trials, reached, mean and max final errors."""
+    frame = trial_frame(run)
+    frame["reached"] = frame["visual_status"] == REACHED
+    numeric = [k for k, (_, rule, _) in TRIAL_COLUMNS.items() if rule is not None]
+    frame[numeric] = frame[numeric].apply(pd.to_numeric, errors="coerce")
+    groups = frame.groupby(["route", "length_m"], sort=False)
+    table = groups.agg(
+        trials=("trial", "size"),
+        reached=("reached", "sum"),
+        driven_m=("driven_m", "mean"),
+        n_intermediate=("n_intermediate", "mean"),
+        visual_mean=("visual_error_m", "mean"),
+        visual_max=("visual_error_m", "max"),
+        odometry_mean=("odometry_error_m", "mean"),
+        odometry_max=("odometry_error_m", "max"),
+        visual_heading=("visual_heading_error_deg", "mean"),
+        odometry_heading=("odometry_heading_error_deg", "mean"),
+    ).reset_index()
+    shown, digits = _scaled(table, LENGTH_COLUMNS)
+    title = "Route homing per route length (means over trials; length: planned, route: driven)"
+    return make_view("routes_by_length", title, shown, digits)
+
+
+def route_views(run: RouteRun) -> list[TableView]:
+    """The report tables of a route run: per route length, then per trial."""
+    return [by_length_view(run), trials_view(run)]
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def _pages(trials: Sequence[TrialData]) -> list[list[TrialData]]:
+    """Trials on trajectory pages, in plan order: the repeats of one (route, length) together,
+    several such groups on a page while they fit in PANELS_PER_PAGE panels, larger groups
+    split over pages."""
+    groups: dict[tuple[str, float], list[TrialData]] = {}
+    for trial in trials:
+        groups.setdefault((trial.trial.route, trial.trial.length), []).append(trial)
+    pages: list[list[TrialData]] = []
+    open_page = False  # whether the last page holds whole groups only
+    for group in groups.values():
+        whole = len(group) <= PANELS_PER_PAGE
+        if whole and open_page and len(pages[-1]) + len(group) <= PANELS_PER_PAGE:
+            pages[-1] += group
+        else:
+            pages += [group[k : k + PANELS_PER_PAGE] for k in range(0, len(group), PANELS_PER_PAGE)]
+        open_page = whole
+    return pages
+
+
+def _page_name(page: Sequence[TrialData]) -> str:
+    first, last = page[0].trial.name, page[-1].trial.name
+    return first if first == last else f"{first} to {last}"
+
+
+def route_run_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
+    """(file stem, section, caption, figure): the final errors, then the trajectories."""
+    styles = method_styles([ROUTE_METHOD])
+    results = [trial.result for trial in run.trials]
+    caption = (
+        f"Final position error against route length: visual homing ({ROUTE_METHOD}) and "
+        "odometry homing from the same end pose"
+    )
+    yield "final_error", "Final errors", caption, route_error_figure(results, styles, caption)
+    for page in _pages(run.trials):
+        name = _page_name(page)
+        caption = f"Trajectories, trials {name}" if len(page) > 1 else f"Trajectory, trial {name}"
+        stem = "trajectories_" + name.replace(" to ", "_to_")
+        figure = route_figure([trial.result for trial in page], styles, caption)
+        yield stem, "Trajectories", caption, figure
