@@ -35,7 +35,8 @@ TITLE_CHAR_WIDTH = 0.095
 #: Most panels in one row of a page.
 MAX_COLUMNS = 4
 
-#: Colour-blind-safe palette (Okabe-Ito, then Tol's muted), in assignment order.
+#: Colour-blind-safe palette (Okabe-Ito, then Tol's muted), in assignment order; no colour
+#: near FAILED_COLOUR (Tol's indigo was dropped: its arrows looked like failed ones).
 PALETTE = (
     "#0072B2",
     "#D55E00",
@@ -43,7 +44,7 @@ PALETTE = (
     "#CC79A7",
     "#E69F00",
     "#56B4E9",
-    "#332288",
+    "#DDCC77",
     "#882255",
     "#117733",
     "#999933",
