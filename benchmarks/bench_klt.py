@@ -17,14 +17,13 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import math  # noqa: E402
 import sys  # noqa: E402
-import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import cv2  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the arena renderer
 from synthetic_panorama import render  # noqa: E402
+from timing import per_call  # noqa: E402
 
 from homebench.geometry import PanoramaGeometry, Pose  # noqa: E402
 from homebench.methods.klt_sector import KltSector  # noqa: E402
@@ -32,16 +31,6 @@ from homebench.methods.klt_tracking import Tracks  # noqa: E402
 
 GOAL = Pose(0.2, -0.3, 0.4)
 STEP = 0.05  # metres between route views
-
-
-def best_of(function: Callable[[], object], repeats: int) -> float:
-    """Smallest wall time (seconds) of ``repeats`` calls."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def run(width: int, steps: int, repeats: int) -> None:
@@ -62,13 +51,15 @@ def run(width: int, steps: int, repeats: int) -> None:
 
     survivors = track_route()
     figures = {
-        "describe (per view)": best_of(lambda: method.describe(views[0]), repeats),
-        "track step (per image pair)": best_of(
+        "describe (per view)": per_call(lambda: method.describe(views[0]), repeats),
+        "track step (per image pair)": per_call(
             lambda: tracker.step(goal.image, tracks, features[1].image, replenish=False), repeats
         ),
-        f"track route ({steps} steps)": best_of(track_route, repeats),
-        "home, direct pair (1 step)": best_of(lambda: method.home(features[1], goal), repeats),
-        f"home, route ({steps} steps)": best_of(lambda: method.home(current, goal, route), repeats),
+        f"track route ({steps} steps)": per_call(track_route, repeats),
+        "home, direct pair (1 step)": per_call(lambda: method.home(features[1], goal), repeats),
+        f"home, route ({steps} steps)": per_call(
+            lambda: method.home(current, goal, route), repeats
+        ),
     }
     print(
         f"\n{width} x {geometry.height} panorama: {len(goal.corners)} corners, "

@@ -19,11 +19,10 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import math  # noqa: E402
-import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
 
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
+from timing import per_call  # noqa: E402
 
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
 from homebench.data.synth.world import build_world  # noqa: E402
@@ -38,18 +37,6 @@ from homebench.methods.sift_solver import (  # noqa: E402
 )
 
 SPEC = WorldSpec(seed=0, grid={"shape": [5, 5]})
-
-
-def _per_call(function: Callable[[], object], repeats: int) -> float:
-    """Best-of-3 mean seconds per call over ``repeats`` calls (after one warm-up call)."""
-    function()
-    times = []
-    for _ in range(3):
-        start = time.perf_counter()
-        for _ in range(repeats):
-            function()
-        times.append((time.perf_counter() - start) / repeats)
-    return min(times)
 
 
 def _views() -> tuple[View, View]:
@@ -105,8 +92,8 @@ def bench_solver(theta: np.ndarray, theta_p: np.ndarray, max_triples: int, repea
 
     fast, slow = vectorised(), reference()
     agree = max(abs(float(angle_diff(f, s))) for f, s in zip(fast, slow, strict=True))
-    t_fast = _per_call(vectorised, repeats)
-    t_slow = _per_call(reference, 1)
+    t_fast = per_call(vectorised, repeats)
+    t_slow = per_call(reference, 1)
     print(
         f"solver, {len(triples)} triples: vectorised {1e3 * t_fast:.2f} ms, per-triple loop + "
         f"grid {1e3 * t_slow:.1f} ms, speed-up {t_slow / t_fast:.0f}x "
@@ -126,7 +113,7 @@ def bench_matching(current: SiftFeatures, goal: SiftFeatures, ratio: float, repe
 
     ig, ic = ours()
     same = set(zip(ig.tolist(), ic.tolist(), strict=True)) == set(opencv())
-    t_ours, t_cv = _per_call(ours, repeats), _per_call(opencv, max(1, repeats // 5))
+    t_ours, t_cv = per_call(ours, repeats), per_call(opencv, max(1, repeats // 5))
     print(
         f"matching {len(goal)} x {len(current)} descriptors: numpy {1e3 * t_ours:.2f} ms, "
         f"cv2.BFMatcher {1e3 * t_cv:.2f} ms, speed-up {t_cv / t_ours:.1f}x "
@@ -143,7 +130,7 @@ def main() -> None:
     current_view, goal_view = _views()
     p = Sift()
     pn = Sift(horizon_constraint=False, half_plane_constraint=False)
-    t_describe = _per_call(lambda: p.describe(current_view), max(1, args.repeats // 4))
+    t_describe = per_call(lambda: p.describe(current_view), max(1, args.repeats // 4))
     current, goal = p.describe(current_view), p.describe(goal_view)
     print(
         f"describe (raw 752 x 564, {len(current)} keypoints): {1e3 * t_describe:.1f} ms "
@@ -151,7 +138,7 @@ def main() -> None:
     )
     for label, method in (("P", p), ("PN", pn)):
         estimate = method.home(current, goal)
-        t_home = _per_call(lambda m=method: m.home(current, goal), args.repeats)
+        t_home = per_call(lambda m=method: m.home(current, goal), args.repeats)
         print(
             f"home {label}: {1e3 * t_home:.2f} ms per pair (target < 10), "
             f"{estimate.diagnostics['n_matches']} matches, {estimate.n_landmarks} landmarks"

@@ -21,9 +21,9 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import math  # noqa: E402
 import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
+from timing import per_call  # noqa: E402
 
 from homebench.geometry import TWO_PI, PanoramaGeometry  # noqa: E402
 from homebench.methods.base import View  # noqa: E402
@@ -44,18 +44,6 @@ def _views(seed: int = 0) -> tuple[View, View]:
     goal = np.clip(image, 0, 255).astype(np.uint8)
     current = np.clip(np.roll(image, 37, axis=1) + rng.normal(0, 3, image.shape), 0, 255)
     return View(current.astype(np.uint8), GEOMETRY), View(goal, GEOMETRY)
-
-
-def _per_call(function: Callable[[], object], repeats: int) -> float:
-    """Best-of-3 mean seconds per call over ``repeats`` calls (after one warm-up call)."""
-    function()
-    times = []
-    for _ in range(3):
-        start = time.perf_counter()
-        for _ in range(repeats):
-            function()
-        times.append((time.perf_counter() - start) / repeats)
-    return min(times)
 
 
 def warping_reference(method: Warping, current: np.ndarray, goal: np.ndarray) -> np.ndarray:
@@ -101,8 +89,8 @@ def main() -> None:
 
     warping = Warping()
     current, goal = warping.describe(current_view), warping.describe(goal_view)
-    t_describe = _per_call(lambda: warping.describe(current_view), repeats)
-    t_home = _per_call(lambda: warping.home(current, goal), repeats)
+    t_describe = per_call(lambda: warping.describe(current_view), repeats)
+    t_home = per_call(lambda: warping.home(current, goal), repeats)
     start = time.perf_counter()
     reference = warping_reference(warping, current, goal)
     t_reference = time.perf_counter() - start
@@ -117,10 +105,10 @@ def main() -> None:
     search_runs(minw.n_columns, minw.n_scales, minw.max_scale)  # one-off table, cached
     current, goal = minw.describe(current_view), minw.describe(goal_view)
     distances = minw.distance_stack(current, goal)
-    t_describe = _per_call(lambda: minw.describe(current_view), repeats)
-    t_stack = _per_call(lambda: minw.distance_stack(current, goal), repeats)
-    t_search = _per_call(lambda: minw.costs(distances), repeats)
-    t_home = _per_call(lambda: minw.home(current, goal), repeats)
+    t_describe = per_call(lambda: minw.describe(current_view), repeats)
+    t_stack = per_call(lambda: minw.distance_stack(current, goal), repeats)
+    t_search = per_call(lambda: minw.costs(distances), repeats)
+    t_home = per_call(lambda: minw.home(current, goal), repeats)
     start = time.perf_counter()
     reference = min_warping_reference(minw, distances)
     t_reference = time.perf_counter() - start

@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import json
 import os
 import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
 import cv2
 import numpy as np
@@ -173,6 +174,18 @@ def _to_grey_uint8(image: NDArray, path: Path) -> NDArray[np.uint8]:
     if conversions[channels] is None:
         return image.reshape(image.shape[:2])
     return cv2.cvtColor(image, conversions[channels])
+
+
+def read_json_record(path: Path, key: str) -> dict[str, Any] | None:
+    """The JSON object in ``path`` whose "key" is ``key``; None if the file is missing,
+    unreadable, corrupt, or holds another key (so the caller recomputes it)."""
+    try:
+        record = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(record, dict) or record.get("key") != key:
+        return None
+    return record
 
 
 def sha256_file(path: Path, chunk_size: int = 1 << 20) -> str:

@@ -23,7 +23,7 @@ from homebench.evaluation.metrics import angular_errors
 from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask, MethodSpec
 from homebench.evaluation.routes import grid_route
 from homebench.evaluation.sources import load_view, open_source
-from homebench.fileio import write_bytes_atomic, write_text_atomic
+from homebench.fileio import read_json_record, write_bytes_atomic, write_text_atomic
 from homebench.geometry import home_direction
 
 RESULT_FORMAT = 2  # 2: records carry the swept world seed
@@ -177,13 +177,7 @@ def _json_default(value: Any) -> Any:
 
 
 def read_result(path: Path, key: str) -> dict[str, Any] | None:
-    """A finished job's record, or None if the file is missing, corrupt or of another job."""
-    try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    if not isinstance(record, dict) or record.get("key") != key:
-        return None
-    if record.get("format") != RESULT_FORMAT:
-        return None
-    return record
+    """A finished job's record, or None if the file is missing, corrupt, of another job or of an
+    older result format."""
+    record = read_json_record(path, key)
+    return record if record is not None and record.get("format") == RESULT_FORMAT else None

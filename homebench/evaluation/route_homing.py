@@ -42,7 +42,7 @@ from homebench.evaluation.route_outbound import (
 )
 from homebench.evaluation.route_visual import home_visually
 from homebench.evaluation.runner import run_parallel, write_run_metadata
-from homebench.fileio import write_text_atomic
+from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
 from homebench.route_config import RouteConfig
@@ -227,13 +227,7 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
 
 def read_trial(path: Path, key: str) -> dict[str, Any] | None:
     """A finished trial's record, or None if the file is missing, corrupt or of another key."""
-    try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    if not isinstance(record, dict) or record.get("key") != key:
-        return None
-    return record
+    return read_json_record(path, key)
 
 
 def _run_and_write(job: RouteJob, run_dir: Path) -> None:
