@@ -6,7 +6,8 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
     kind: route
     name: klt-route
     output: runs/klt_route
-    world: {seed: 0, variant: original}          # a generated world (WorldSpec)
+    world: {seed: 0, variant: original}          # a generated world (WorldSpec), or
+    # database: synth-original                   # a grid database: nearest grid images
     routes:
       - name: tour
         waypoints: [[1.7, 1.8], [1.7, 3.8], [4.2, 3.8]]   # metres, world frame; home first
@@ -16,7 +17,8 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
     tracker: {max_corners: 150, min_tracks: 100}  # KltTracker parameters
     homing: {min_shared: 80, goal_threshold: 0.01}
 
-Checks that need the world (waypoints in free space) happen when the experiment starts.
+Checks that need the world (waypoints in free space, or within a database's grid) happen when
+the experiment starts.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from homebench.config import ALIAS
+from homebench.config import ALIAS, UnfoldConfig
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
 from homebench.evaluation.robot import DriftModel, MotionLimits
@@ -97,6 +99,10 @@ class RouteConfig(_Strict):
     seed: int = Field(0, ge=0)
     jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
     world: WorldSpec = WorldSpec()
+    # Or a grid database (known name or manifest path): the robot sees the nearest grid image.
+    database: str | None = None
+    database_path: Path | None = None  # folder of a real set's copy
+    unfold: UnfoldConfig = UnfoldConfig()  # panoramas made from a raw-only database
     routes: list[RouteSpec] = Field(min_length=1)
     motion: MotionLimits = MotionLimits()
     drift: DriftModel = DriftModel()
@@ -105,6 +111,10 @@ class RouteConfig(_Strict):
 
     @model_validator(mode="after")
     def _checks(self) -> RouteConfig:
+        if self.database is not None and "world" in self.model_fields_set:
+            raise ValueError("give either 'world' or 'database', not both")
+        if self.database_path is not None and self.database is None:
+            raise ValueError("'database_path' needs 'database'")
         names = [route.name for route in self.routes]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
@@ -114,6 +124,12 @@ class RouteConfig(_Strict):
         except (TypeError, ConfigError) as error:
             raise ValueError(f"tracker: {error}") from None
         return self
+
+    def scene_key(self) -> dict[str, Any]:
+        """What identifies the scene in trial keys: the database or the world spec's hash."""
+        if self.database is not None:
+            return {"database": self.database, "path": str(self.database_path)}
+        return {"world": self.world.key()}
 
     def klt(self) -> KltTracker:
         """The corner tracker of the run."""

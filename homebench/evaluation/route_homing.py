@@ -28,18 +28,18 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from homebench.data.synth.world import PoseError, World, build_world
+from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
 from homebench.evaluation.jobs import JobOutcome, run_safely
 from homebench.evaluation.lifecycle import TargetSelectionError, select_targets
 from homebench.evaluation.robot import Robot, dead_reckon
 from homebench.evaluation.route_outbound import (
-    Camera,
     as_array,
     drive_outbound,
     path_length,
     route_prefix,
 )
+from homebench.evaluation.route_scene import RouteScene, route_scene
 from homebench.evaluation.route_visual import home_visually
 from homebench.evaluation.runner import run_parallel, write_run_metadata
 from homebench.fileio import read_json_record, write_text_atomic
@@ -101,7 +101,7 @@ class RouteJob:
         return stable_hash(
             {
                 "format": ROUTE_FORMAT,
-                "world": c.world.key(),
+                "scene": c.scene_key(),
                 "seed": c.seed,
                 "trial": [self.trial.name, self.trial.waypoints, self.trial.heading],
                 "motion": c.motion.model_dump(mode="json"),
@@ -115,28 +115,19 @@ class RouteJob:
         return run_dir / ROUTES_DIR / f"{self.trial.name}.json"
 
 
-def check_routes(config: RouteConfig, world: World, config_path: Path) -> None:
-    """ConfigError naming the route unless every point along it is free space in ``world``."""
+def check_routes(config: RouteConfig, scene: RouteScene, config_path: Path) -> None:
+    """ConfigError naming the route unless the scene can show every point along it."""
     for k, route in enumerate(config.routes):
         points = np.asarray(route.waypoints, dtype=np.float64)
         for a, b in zip(points[:-1], points[1:], strict=True):
             n = max(1, math.ceil(math.dist(a, b) / CHECK_SPACING))
             for x, y in a + np.linspace(0.0, 1.0, n + 1)[:, None] * (b - a):
                 try:
-                    world.check_pose(Pose(float(x), float(y)))
+                    scene.check_pose(Pose(float(x), float(y)))
                 except PoseError as error:
                     raise ConfigError(
                         f"{config_path}: routes[{k}] ({route.name}): {error}"
                     ) from None
-
-
-def world_camera(world: World, seed: int, phase: str) -> Camera:
-    """Unfolded panoramas of ``world``; frame k's sensor noise is seeded by (seed, phase, k)."""
-
-    def take(pose: Pose, k: int) -> np.ndarray:
-        return world.render(pose, derived_seed(seed, phase, k))["unfolded"]
-
-    return take
 
 
 def _degrees_error(heading: float, truth: float) -> float:
@@ -159,13 +150,13 @@ def _finite(value: Any) -> Any:
 def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
     """Drive, track, home visually and by odometry; the trial's record (JSON-ready)."""
     seed = derived_seed(config.seed, trial.name)
-    world = build_world(config.world)
+    scene = route_scene(config)
     tracker = config.klt()
     home = trial.home
     started = time.perf_counter()
     driver = Robot.at(home, config.drift, np.random.default_rng([seed, 0]))
     outbound = drive_outbound(
-        driver, trial.waypoints, config.motion, world_camera(world, seed, "outbound"), tracker
+        driver, trial.waypoints, config.motion, scene.camera(seed, "outbound"), tracker
     )
     outbound_s = time.perf_counter() - started
     lifecycles = outbound.log.lifecycles()
@@ -174,8 +165,8 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
     try:
         targets = select_targets(lifecycles, outbound.end, config.homing.min_shared)
         homing = home_visually(
-            visual, outbound, targets, world_camera(world, seed, "homing"), tracker,
-            world.unfolded_geometry, config.motion, config.homing,
+            visual, outbound, targets, scene.camera(seed, "homing"), tracker,
+            scene.geometry, config.motion, config.homing,
         )  # fmt: skip
         status, poses, legs, note = homing.status, homing.poses, homing.legs_as_dicts(), ""
     except TargetSelectionError as error:
@@ -267,7 +258,7 @@ def run_route_experiment(
     show_progress: bool = True,
 ) -> RouteRunOutcome:
     """Run every unfinished trial of ``config`` and write the routes table."""
-    check_routes(config, build_world(config.world), config_path)
+    check_routes(config, route_scene(config), config_path)
     run_dir = Path(config.output)
     run_dir.mkdir(parents=True, exist_ok=True)
     write_run_metadata(config, config_path, run_dir)

@@ -113,22 +113,26 @@ def open_source(source: Source) -> GridDatabase:
     return catalog.resolve(source.locator, source.path)
 
 
-def load_view(source: Source, i: int, j: int, kind: ImageKind, rotation: float = 0.0) -> View:
-    """The view of (i, j) a method of ``kind`` needs, turned by ``rotation`` (radians, ccw).
-
-    Raw-only databases give unfolded views by unfolding (``source.unfold_geometry``); a method
-    that needs raw images on a database without them is a DataError.
-    """
-    database = open_source(source)
+def database_view(
+    database: GridDatabase,
+    i: int,
+    j: int,
+    kind: ImageKind,
+    unfold_geometry: PanoramaGeometry | None,
+) -> View:
+    """The (i, j) view of ``kind``; raw-only databases give unfolded views by unfolding to
+    ``unfold_geometry``. A kind the database cannot give is a DataError."""
     if kind in database.kinds:
-        view = database.view(i, j, kind)
-    elif kind == "unfolded" and source.unfold_geometry is not None:
+        return database.view(i, j, kind)
+    if kind == "unfolded" and unfold_geometry is not None:
         raw = database.view(i, j, "raw")
-        image = unfold(raw.image, raw.geometry, source.unfold_geometry)
-        view = View(image, source.unfold_geometry)
-    else:
-        raise DataError(
-            f"database {database.name!r} has no {kind!r} images (it has: "
-            f"{', '.join(database.kinds)})"
-        )
+        return View(unfold(raw.image, raw.geometry, unfold_geometry), unfold_geometry)
+    raise DataError(
+        f"database {database.name!r} has no {kind!r} images (it has: {', '.join(database.kinds)})"
+    )
+
+
+def load_view(source: Source, i: int, j: int, kind: ImageKind, rotation: float = 0.0) -> View:
+    """The view of (i, j) a method of ``kind`` needs, turned by ``rotation`` (radians, ccw)."""
+    view = database_view(open_source(source), i, j, kind, source.unfold_geometry)
     return rotate_view(view, rotation) if rotation else view

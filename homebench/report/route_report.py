@@ -185,19 +185,27 @@ def _results_lines(run: RouteRun) -> list[str]:
     ]
 
 
+def _scene_line(c: RouteConfig) -> str:
+    if c.database is not None:
+        return f"grid database {c.database}: the robot sees the nearest grid image"
+    room = c.world.room
+    return (
+        f"world: generated, variant {c.world.variant} (seed {c.world.seed}), room "
+        f"{room.width:g} x {room.depth:g} x {room.height:g} m, panoramas "
+        f"{c.world.unfolded.width} px wide, noise sigma {c.world.noise_sigma:g}"
+    )
+
+
 def route_summary(run: RouteRun) -> dict[str, list[str]]:
     """A route run's title page sections: heading -> lines (config, results, environment)."""
     c = run.config
-    room = c.world.room
     return {
         "Run": run_lines(run.info),
         "Experiment": [
             "route homing (seed 000): outbound route with KLT tracking, intermediate positions "
             "from the feature life-cycles, homing leg by leg with the sector law; odometry "
             "homing from the same end pose as the baseline",
-            f"world: generated, variant {c.world.variant} (seed {c.world.seed}), room "
-            f"{room.width:g} x {room.depth:g} x {room.height:g} m, panoramas "
-            f"{c.world.unfolded.width} px wide, noise sigma {c.world.noise_sigma:g}",
+            _scene_line(c),
             *(_route_line(route) for route in c.routes),
             f"motion: {_params(c.motion)}",
             f"odometry drift: {_params(c.drift)}",

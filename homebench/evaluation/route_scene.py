@@ -1,0 +1,101 @@
+"""Where a route-homing robot drives: a generated world or a grid database.
+
+In a generated world the robot sees the panorama rendered at its true pose. On a grid database
+it sees the image of the grid position nearest to it, turned to its heading by whole columns
+(seed 000's experiment "on the nearest grid images"); it may not leave the grid by more than
+one spacing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.config import UnfoldConfig
+from homebench.data import catalog
+from homebench.data.database import GridDatabase
+from homebench.data.synth.spec import WorldSpec
+from homebench.data.synth.world import PoseError, build_world
+from homebench.evaluation.route_outbound import Camera
+from homebench.evaluation.sources import database_view
+from homebench.geometry import PanoramaGeometry, Pose
+from homebench.hashing import derived_seed
+from homebench.imaging.rotation import rotate_view
+from homebench.route_config import RouteConfig
+
+
+@dataclass(frozen=True)
+class RouteScene:
+    """How the robot sees (unfolded panoramas of ``geometry``) and where it may go.
+
+    ``render(pose, noise_seed)`` gives the panorama at ``pose``; ``check_pose`` raises PoseError
+    for a pose the scene cannot show.
+    """
+
+    geometry: PanoramaGeometry
+    render: Callable[[Pose, int], NDArray[np.uint8]]
+    check_pose: Callable[[Pose], None]
+
+    def camera(self, seed: int, phase: str) -> Camera:
+        """Frame k at ``pose``, its sensor noise seeded by (seed, phase, k)."""
+
+        def take(pose: Pose, k: int) -> NDArray[np.uint8]:
+            return self.render(pose, derived_seed(seed, phase, k))
+
+        return take
+
+
+def world_scene(spec: WorldSpec) -> RouteScene:
+    world = build_world(spec)
+    return RouteScene(
+        world.unfolded_geometry,
+        lambda pose, noise_seed: world.render(pose, noise_seed)["unfolded"],
+        world.check_pose,
+    )
+
+
+@lru_cache(maxsize=4)
+def _database(locator: str, path: Path | None) -> GridDatabase:
+    database = catalog.resolve(locator, path)
+    database.check_layout()
+    return database
+
+
+def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> RouteScene:
+    """Nearest grid images of a database (a known name or manifest path), turned to the pose."""
+    database = _database(locator, path)
+    grid = database.grid
+    unfold_geometry = None if "unfolded" in database.kinds else unfold.geometry()
+    geometry = database_view(database, 0, 0, "unfolded", unfold_geometry).geometry
+    assert isinstance(geometry, PanoramaGeometry)
+
+    def check_pose(pose: Pose) -> None:
+        low = np.asarray(grid.origin) - grid.spacing
+        high = np.asarray(grid.position(grid.shape[0] - 1, grid.shape[1] - 1)) + grid.spacing
+        if not (np.all(pose.xy >= low) and np.all(pose.xy <= high)):
+            raise PoseError(
+                f"pose ({pose.x:.2f}, {pose.y:.2f}) m is more than one spacing outside the grid "
+                f"of database {database.name!r}"
+            )
+
+    def render(pose: Pose, noise_seed: int) -> NDArray[np.uint8]:
+        check_pose(pose)
+        i, j = (int(v) for v in grid.nearest_index(pose.xy))
+        view = database_view(database, i, j, "unfolded", unfold_geometry)
+        turn = pose.heading - database.heading(i, j)
+        columns = round(turn / geometry.column_step)
+        return rotate_view(view, columns * geometry.column_step).image if columns else view.image
+
+    return RouteScene(geometry, render, check_pose)
+
+
+def route_scene(config: RouteConfig) -> RouteScene:
+    """The scene of a route config: its grid ``database`` if it names one, else its world."""
+    if config.database is not None:
+        return grid_scene(config.database, config.database_path, config.unfold)
+    return world_scene(config.world)
