@@ -23,11 +23,10 @@ import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 from homebench.data.synth.spec import UnfoldedImageSpec, WorldSpec  # noqa: E402
-from homebench.data.synth.world import build_world  # noqa: E402
 from homebench.evaluation.lifecycle import select_targets  # noqa: E402
 from homebench.evaluation.robot import DriftModel, MotionLimits, Robot  # noqa: E402
-from homebench.evaluation.route_homing import world_camera  # noqa: E402
 from homebench.evaluation.route_outbound import Camera, drive_outbound  # noqa: E402
+from homebench.evaluation.route_scene import world_scene  # noqa: E402
 from homebench.evaluation.route_visual import VisualHomingParams, home_visually  # noqa: E402
 from homebench.geometry import Pose  # noqa: E402
 from homebench.methods.klt_tracking import KltTracker, Tracks  # noqa: E402
@@ -55,13 +54,13 @@ def main() -> None:
     parser.add_argument("--width", type=int, default=360, help="panorama width, pixels")
     args = parser.parse_args()
     cv2.setNumThreads(1)
-    world = build_world(WorldSpec(unfolded=UnfoldedImageSpec(width=args.width)))
+    scene = world_scene(WorldSpec(unfolded=UnfoldedImageSpec(width=args.width)))
     limits = MotionLimits(step_length=0.05, max_turn_deg=10.0)
     tracker = KltTracker(max_corners=150, min_tracks=100, min_eigen=0.02)
     waypoints = np.array([[HOME.x, HOME.y], [HOME.x, HOME.y + args.length]])
     robot = Robot.at(HOME, DriftModel(), np.random.default_rng(0))
 
-    camera = TimedCamera(world_camera(world, 0, "outbound"))
+    camera = TimedCamera(scene.camera(0, "outbound"))
     start = time.perf_counter()
     outbound = drive_outbound(robot, waypoints, limits, camera, tracker)
     outbound_s = time.perf_counter() - start
@@ -73,17 +72,17 @@ def main() -> None:
     track_ms = 1000 * (time.perf_counter() - start) / outbound.end
     targets = select_targets(outbound.log.lifecycles(), outbound.end, 80)
 
-    camera = TimedCamera(world_camera(world, 0, "homing"))
+    camera = TimedCamera(scene.camera(0, "homing"))
     params = VisualHomingParams(anchor=True)
     start = time.perf_counter()
     homing = home_visually(
-        robot, outbound, targets, camera, tracker, world.unfolded_geometry, limits, params
+        robot, outbound, targets, camera, tracker, scene.geometry, limits, params
     )
     homing_s = time.perf_counter() - start
     steps = len(homing.poses) - 1
     homing_ms = 1000 * (homing_s - camera.seconds) / max(steps, 1)
 
-    print(f"panorama {world.unfolded_geometry.width} x {world.unfolded_geometry.height} px")
+    print(f"panorama {scene.geometry.width} x {scene.geometry.height} px")
     print(f"render per frame (raw + unfolded): {render_ms:.1f} ms")
     print(f"outbound: {len(outbound.images)} frames, {args.length:g} m, {outbound_s:.2f} s")
     print(f"  tracking per step (KLT, replenishing): {track_ms:.1f} ms")
