@@ -93,3 +93,26 @@ def test_a_crash_is_exit_1_without_traceback_unless_debug(monkeypatch: pytest.Mo
     assert "RuntimeError: boom" in err and "Traceback" not in err
     result = CliRunner().invoke(main, ["--debug", "data", "list"])
     assert isinstance(result.exception, RuntimeError)
+
+
+def test_data_generate_a_manifest_and_a_variant_then_verify(tmp_path: Path) -> None:
+    from homebench.data.generate import manifest_for_spec
+    from homebench.data.synth.spec import WorldSpec
+
+    spec = WorldSpec.model_validate(
+        {"grid": {"shape": [2, 2]}, "unfolded": {"width": 90}, "raw": {"width": 96, "height": 72,
+         "inner_radius": 4, "outer_radius": 34}}
+    )  # fmt: skip
+    manifest = tmp_path / "tiny-original.yaml"
+    manifest.write_text(manifest_for_spec(spec, "tiny-original").to_yaml())
+    code, out, err = _invoke("data", "generate", str(manifest), "--out", str(tmp_path / "a"))
+    assert code == 0, err
+    assert Path(out.strip()) == tmp_path / "a"
+    code, out, err = _invoke(
+        "data", "generate", str(manifest), "--variant", "day", "--out", str(tmp_path / "day")
+    )
+    assert code == 0, err
+    code, out, err = _invoke("data", "verify", str(tmp_path / "day"))
+    assert code == 0 and "tiny-day: 8 images OK" in out, err
+    code, _, err = _invoke("data", "generate", str(manifest), "--variant", "dusk")
+    assert code == 2 and "unknown variant 'dusk'" in err
