@@ -15,9 +15,9 @@ import cv2
 import numpy as np
 import pytest
 
+from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
 from homebench.geometry import (
-    CatadioptricGeometry,
     PanoramaGeometry,
     Pose,
     angular_error,
@@ -27,15 +27,7 @@ from homebench.methods import registry
 from homebench.methods.base import View
 from homebench.methods.sift import Sift, SiftFeatures, SiftUnfolded, panorama_sides
 
-RAW = CatadioptricGeometry(
-    width=752,
-    height=564,
-    centre=(375.5, 281.5),
-    radii=(25.0, 270.0),
-    elevations=(math.radians(-50.0), math.radians(45.0)),
-    direction="cw",
-    zero_angle=math.radians(90.0),
-)
+RAW = WorldSpec().raw.geometry()  # the Bielefeld-format raw camera
 GOAL = Pose(0.2, 0.1, -0.6)
 CAMERA_HEIGHT = 1.0
 EXACT = 1e-6

@@ -11,7 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from homebench.geometry import CatadioptricGeometry, Pose
+from homebench.data.synth.spec import WorldSpec
+from homebench.geometry import Pose
 from homebench.methods.sift_elimination import (
     half_plane_constraint,
     half_plane_votes,
@@ -19,15 +20,7 @@ from homebench.methods.sift_elimination import (
     reference_landmarks,
 )
 
-RAW = CatadioptricGeometry(
-    width=752,
-    height=564,
-    centre=(375.5, 281.5),
-    radii=(25.0, 270.0),
-    elevations=(math.radians(-50.0), math.radians(45.0)),
-    direction="cw",
-    zero_angle=math.radians(90.0),
-)
+RAW = WorldSpec().raw.geometry()  # the Bielefeld-format raw camera
 
 
 def _pixels(azimuth_deg: float, elevation_deg: float) -> tuple[float, float]:
