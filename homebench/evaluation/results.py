@@ -21,7 +21,7 @@ from homebench.evaluation.jobs import read_result
 from homebench.evaluation.metrics import HomeField, ae_summary, ahc, ahc_by_distance
 from homebench.evaluation.plan import Plan
 from homebench.evaluation.return_ratio import catchment, return_ratio
-from homebench.fileio import write_text_atomic
+from homebench.fileio import atomic_write, write_text_atomic
 from homebench.geometry import Grid
 
 PLAN_FILE = "plan.json"
@@ -231,8 +231,8 @@ def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Pa
     pairs = tables.pairs.drop(columns=["grid"], errors="ignore")
     if table_format == "parquet":
         path = folder / "pairs.parquet"
-        pairs.to_parquet(path.with_suffix(".parquet.tmp"), index=False)
-        path.with_suffix(".parquet.tmp").replace(path)
+        with atomic_write(path) as f:
+            pairs.to_parquet(f, index=False)
     else:
         path = folder / "pairs.csv"
         write_text_atomic(path, pairs.to_csv(index=False, float_format="%.6g"))
