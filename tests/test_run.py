@@ -264,3 +264,21 @@ def test_parquet_pairs_table_holds_the_csv_rows(tmp_path: Path, arena_manifest: 
         check_dtype=False,
         rtol=1e-5,
     )
+
+
+def test_a_torn_job_file_is_never_read_back(tmp_path: Path, arena_manifest: Path) -> None:
+    """What a SIGKILL mid-write could leave — a half-written result, a stray temporary file —
+    is recomputed or ignored, and the tables come out as from a clean run."""
+    reference, torn = tmp_path / "reference", tmp_path / "torn"
+    reference.mkdir(), torn.mkdir()
+    assert _run(str(_config(reference, arena_manifest)))[0] == 0
+    config = _config(torn, arena_manifest)
+    assert _run(str(config))[0] == 0
+    jobs = sorted((torn / "run" / "jobs").glob("*.json"))
+    text = jobs[0].read_text()
+    jobs[0].write_text(text[: len(text) // 2])  # a torn write under the final name
+    (jobs[1].parent / f".{jobs[1].name}.k3j2.tmp").write_text(text[:100])  # a stray temp file
+    code, out, err = _run(str(config))
+    assert code == 0, err
+    assert "1 job(s) computed, 3 reused" in out
+    _assert_same_tables(reference / "run", torn / "run")
