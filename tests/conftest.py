@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from click.testing import CliRunner, Result
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -66,3 +67,14 @@ def write_arena_database(folder: Path) -> Path:
 @pytest.fixture(scope="session")
 def arena_manifest(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_arena_database(tmp_path_factory.mktemp("arena"))
+
+
+def run_config(folder: Path, config: dict, *options: str, report: bool = False) -> Result:
+    """Write ``config`` to ``folder/config.yaml`` and `homebench run` it as a user would (no
+    progress bars; no PDF unless ``report``); the click result."""
+    from homebench.cli import main
+
+    path = folder / "config.yaml"
+    path.write_text(yaml.safe_dump(config))
+    flags = ["--no-progress", *([] if report else ["--no-report"]), *options]
+    return CliRunner().invoke(main, ["run", str(path), *flags])

@@ -12,10 +12,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
-from click.testing import CliRunner
+from conftest import run_config
 
-from homebench.cli import main
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import render_position
 from homebench.methods import registry
@@ -70,9 +68,7 @@ def test_all_methods_at_a_corner_goal_fill_the_tables(tmp_path: Path) -> None:
         "goals": [[0, 0], [2, 2]],
         "methods": [{"method": name} for name in BUILT_IN],
     }
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(config))
-    result = CliRunner().invoke(main, ["run", str(path), "--no-progress", "--no-report"])
+    result = run_config(tmp_path, config)
     assert result.exit_code == 0, result.output
     tables = tmp_path / "run" / "tables"
     pairs = pd.read_csv(tables / "pairs.csv")

@@ -10,10 +10,8 @@ from typing import ClassVar
 
 import numpy as np
 import pytest
-import yaml
-from click.testing import CliRunner
+from conftest import run_config
 
-from homebench.cli import main
 from homebench.errors import DataError
 from homebench.fileio import write_text_atomic
 from homebench.methods.base import HomingEstimate, View
@@ -38,8 +36,8 @@ class Fragile:
         return HomingEstimate(angle=0.0)
 
 
-def _config(tmp_path: Path, manifest: Path, bad_mean: float) -> Path:
-    data = {
+def _config(tmp_path: Path, manifest: Path, bad_mean: float) -> dict:
+    return {
         "output": str(tmp_path / "run"),
         "databases": {"arena": str(manifest)},
         "conditions": ["arena-arena"],
@@ -47,9 +45,6 @@ def _config(tmp_path: Path, manifest: Path, bad_mean: float) -> Path:
         "methods": [{"method": "fragile", "params": {"bad_mean": bad_mean}}],
         "jobs": 1,
     }
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(data))
-    return path
 
 
 def test_a_failing_job_is_reported_and_the_others_finish(
@@ -58,8 +53,7 @@ def test_a_failing_job_is_reported_and_the_others_finish(
     from homebench.data.catalog import resolve
 
     goal_mean = float(np.mean(resolve(str(arena_manifest)).image(1, 1, "unfolded")))
-    config = _config(tmp_path, arena_manifest, goal_mean)
-    result = CliRunner().invoke(main, ["run", str(config), "--no-progress", "--no-report"])
+    result = run_config(tmp_path, _config(tmp_path, arena_manifest, goal_mean))
     assert result.exit_code == 1
     assert "failed: RuntimeError: simulated failure in home" in result.stderr
     assert len(list((tmp_path / "run" / "jobs").glob("*.json"))) == 2

@@ -12,9 +12,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 import yaml
-from click.testing import CliRunner
-
-from homebench.cli import main
+from conftest import run_config
 
 CONFIG = Path(__file__).parent.parent / "configs" / "sift_paper.yaml"
 
@@ -23,9 +21,7 @@ CONFIG = Path(__file__).parent.parent / "configs" / "sift_paper.yaml"
 def test_sift_paper_findings_reproduce(tmp_path: Path) -> None:
     data = yaml.safe_load(CONFIG.read_text())
     data["output"] = str(tmp_path / "run")
-    config = tmp_path / "sift_paper.yaml"
-    config.write_text(yaml.safe_dump(data))
-    result = CliRunner().invoke(main, ["run", str(config), "--no-progress", "--no-report"])
+    result = run_config(tmp_path, data)
     assert result.exit_code == 0, result.output
     summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv")
     table = summary.set_index(["condition", "method"])

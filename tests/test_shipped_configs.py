@@ -6,9 +6,8 @@ from pathlib import Path
 
 import pytest
 import yaml
-from click.testing import CliRunner
+from conftest import run_config
 
-from homebench.cli import main
 from homebench.config import config_kind, load_config
 from homebench.route_config import load_route_config
 
@@ -26,9 +25,7 @@ def test_shipped_config_is_valid(path: Path) -> None:
 def test_smoke_benchmark_passes_its_checks(tmp_path: Path) -> None:
     data = yaml.safe_load((Path(__file__).parent.parent / "configs" / "smoke.yaml").read_text())
     data["output"] = str(tmp_path / "smoke")
-    config = tmp_path / "smoke.yaml"
-    config.write_text(yaml.safe_dump(data))
-    result = CliRunner().invoke(main, ["run", str(config), "--check", "--no-progress"])
+    result = run_config(tmp_path, data, "--check", report=True)
     assert result.exit_code == 0, result.output
     assert "all 4 method check(s) passed" in result.stdout
     assert (tmp_path / "smoke" / "report" / "report.pdf").is_file()

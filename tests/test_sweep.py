@@ -5,10 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
-import yaml
-from click.testing import CliRunner
-
-from homebench.cli import main
+from conftest import run_config
 
 WORLD = {"grid": {"shape": [3, 3]}, "unfolded": {"width": 180}}
 
@@ -31,9 +28,7 @@ def test_sweep_keeps_every_factor_as_a_column(tmp_path: Path) -> None:
             }
         ],  # fmt: skip
     }
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(config))
-    result = CliRunner().invoke(main, ["run", str(path), "--no-progress", "--no-report"])
+    result = run_config(tmp_path, config)
     assert result.exit_code == 0, result.output
     tables = tmp_path / "run" / "tables"
     pairs = pd.read_csv(tables / "pairs.csv")

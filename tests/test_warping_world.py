@@ -14,10 +14,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
-from click.testing import CliRunner
+from conftest import run_config
 
-from homebench.cli import main
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import build_world
 from homebench.geometry import Pose, angular_error, home_direction
@@ -74,9 +72,7 @@ def test_quality_on_a_small_generated_grid(tmp_path: Path) -> None:
         "methods": [{"method": "warping"}, {"method": "min-warping"}],
         "jobs": 2,
     }
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(config))
-    result = CliRunner().invoke(main, ["run", str(path), "--no-progress", "--no-report"])
+    result = run_config(tmp_path, config)
     assert result.exit_code == 0, result.stderr
     pairs = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
     near = pairs[(pairs["distance_m"] >= 0.3 - 1e-9) & (pairs["distance_m"] <= 1.2 + 1e-9)]
