@@ -216,11 +216,6 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
     return _finite(record)
 
 
-def read_trial(path: Path, key: str) -> dict[str, Any] | None:
-    """A finished trial's record, or None if the file is missing, corrupt or of another key."""
-    return read_json_record(path, key)
-
-
 def _run_and_write(job: RouteJob, run_dir: Path) -> None:
     record = {"key": job.key, **run_trial(job.config, job.trial)}
     path = job.result_path(run_dir)
@@ -266,10 +261,10 @@ def run_route_experiment(
     if force:
         for job in plan:
             job.result_path(run_dir).unlink(missing_ok=True)
-    todo = [job for job in plan if read_trial(job.result_path(run_dir), job.key) is None]
+    todo = [job for job in plan if read_json_record(job.result_path(run_dir), job.key) is None]
     n_jobs = jobs if jobs is not None else config.jobs
     outcomes = run_parallel(run_route_job, todo, run_dir, n_jobs, "routes", show_progress)
-    records = [read_trial(job.result_path(run_dir), job.key) for job in plan]
+    records = [read_json_record(job.result_path(run_dir), job.key) for job in plan]
     table = route_table([r for r in records if r is not None])
     table_path = run_dir / TABLE_PATH
     table_path.parent.mkdir(parents=True, exist_ok=True)
