@@ -144,7 +144,7 @@ def methods() -> None:
     from homebench.methods import registry
 
     for name, cls in registry.available().items():
-        summary = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
+        summary = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
         click.echo(f"{name} ({cls.image_kind} images): {summary}")
         for param, default in registry.parameters(name).items():
             click.echo(f"    {param} = {default!r}")
