@@ -149,3 +149,24 @@ def test_route_views_must_share_the_geometry():
 def test_bad_parameters_are_config_errors(params):
     with pytest.raises(ConfigError):
         registry.create("klt-sector", **params)
+
+
+def test_cached_route_prefixes_give_the_uncached_correspondences():
+    """Currents sharing route views reuse the tracked prefix: same answer as from scratch."""
+    method = KltSector()
+    goal = method.describe(render(GOAL))
+    far = Pose(GOAL.x + 0.9, GOAL.y + 0.3, GOAL.heading)
+    route = [method.describe(render(pose)) for pose in route_views(GOAL, far, 0.15)]
+    current = method.describe(render(far))
+    cached = [method.correspondences(current, goal, route[:n]) for n in (2, 4, len(route))]
+    assert len(method._route_tracks) == len(route)  # each prefix tracked once
+    for n, (goal_xy, current_xy) in zip((2, 4, len(route)), cached, strict=True):
+        fresh = KltSector().correspondences(current, goal, route[:n])
+        np.testing.assert_array_equal(goal_xy, fresh[0])
+        np.testing.assert_array_equal(current_xy, fresh[1])
+    no_digest = [type(view)(view.image, view.geometry, view.corners) for view in route]
+    uncached = KltSector()
+    np.testing.assert_array_equal(
+        uncached.correspondences(current, goal, no_digest)[1], cached[-1][1]
+    )
+    assert not uncached._route_tracks  # views without a digest are never cached

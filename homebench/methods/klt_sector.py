@@ -17,9 +17,9 @@ The engine decides the route: ``uses_route`` tells it to pass the intermediate v
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
-from itertools import pairwise
+from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
 import numpy as np
@@ -43,16 +43,20 @@ from homebench.methods.sector_law import (
 F32Array = NDArray[np.float32]
 
 #: Tracker parameters the method exposes (replenishing plays no part between two views).
+#: Route prefixes whose tracks one method instance keeps (a job's goal and its routes).
+ROUTE_CACHE_SIZE = 4096
 _TRACKER_FIELDS = tuple(f.name for f in fields(KltTracker) if f.name != "min_tracks")
 
 
 @dataclass(frozen=True)
 class KltFeatures:
-    """One described view: the panorama (height, width) uint8, its geometry, its corners (n, 2)."""
+    """One described view: the panorama (height, width) uint8, its geometry, its corners (n, 2),
+    and a digest of the image that names the view in the route-tracking cache ("" = none)."""
 
     image: NDArray[np.uint8]
     geometry: PanoramaGeometry
     corners: F32Array
+    digest: str = ""
 
 
 @register
@@ -86,6 +90,11 @@ class KltSector:
     min_features: int = MIN_FEATURES
     goal_threshold: float = 0.02
     bisectors: BisectorFrame = "current"
+    # Tracks of the goal's corners through route prefixes, keyed by the views' digests: the
+    # currents of one goal share their first route views. Not a parameter.
+    _route_tracks: dict[tuple[str, ...], Tracks] = field(
+        default_factory=dict, init=False, repr=False, compare=False
+    )
 
     def __post_init__(self) -> None:
         self.tracker  # noqa: B018  (validates the tracker's parameters)
@@ -104,7 +113,8 @@ class KltSector:
         """The panorama and its Shi-Tomasi corners."""
         if not isinstance(view.geometry, PanoramaGeometry):
             raise ConfigError("klt-sector needs unfolded panoramas, got a raw image")
-        return KltFeatures(view.image, view.geometry, self.tracker.detect(view.image))
+        digest = hashlib.blake2b(view.image.tobytes(), digest_size=16).hexdigest()
+        return KltFeatures(view.image, view.geometry, self.tracker.detect(view.image), digest)
 
     def correspondences(
         self, current: KltFeatures, goal: KltFeatures, route: Sequence[KltFeatures] = ()
@@ -114,14 +124,38 @@ class KltSector:
         Tracks the goal's corners through ``route`` (goal towards current) into ``current``.
         """
         tracker = self.tracker
-        views = [goal, *route, current]
-        for view in views[1:]:
+        for view in (*route, current):
             if view.image.shape != goal.image.shape or view.geometry != goal.geometry:
                 raise ValueError("klt-sector: the views of a route must share one geometry")
-        tracks = Tracks.start(goal.corners)
-        for before, after in pairwise(views):
-            tracks = tracker.step(before.image, tracks, after.image, replenish=False).survivors()
+        tracks = self._through_route(goal, route)
+        last = route[-1] if route else goal
+        tracks = tracker.step(last.image, tracks, current.image, replenish=False).survivors()
         return goal.corners[tracks.ids], tracks.positions
+
+    def _through_route(self, goal: KltFeatures, route: Sequence[KltFeatures]) -> Tracks:
+        """The goal's corners tracked through ``route``, reusing the longest cached prefix.
+
+        Identical to tracking from scratch (tracking is deterministic); views without a digest
+        are never cached.
+        """
+        keys = (goal.digest, *(view.digest for view in route))
+        cacheable = all(keys)
+        tracks, done = Tracks.start(goal.corners), 0
+        if cacheable:
+            for n in range(len(route), 0, -1):
+                if (hit := self._route_tracks.get(keys[: n + 1])) is not None:
+                    tracks, done = hit, n
+                    break
+        views = (goal, *route)
+        tracker = self.tracker
+        for k in range(done, len(route)):
+            tracks = tracker.step(views[k].image, tracks, views[k + 1].image, replenish=False)
+            tracks = tracks.survivors()
+            if cacheable:
+                if len(self._route_tracks) >= ROUTE_CACHE_SIZE:
+                    self._route_tracks.clear()
+                self._route_tracks[keys[: k + 2]] = tracks
+        return tracks
 
     def home(
         self, current: KltFeatures, goal: KltFeatures, route: Sequence[KltFeatures] = ()
