@@ -69,6 +69,23 @@ def arena_manifest(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return write_arena_database(tmp_path_factory.mktemp("arena"))
 
 
+def arena_config(folder: Path, manifest: Path, **changes: object) -> dict:
+    """A run config over the arena database: two goals, warping and a coarse warping entry,
+    results in ``folder/run``; ``changes`` replace top-level keys."""
+    return {
+        "name": "arena-run",
+        "output": str(folder / "run"),
+        "databases": {"arena": str(manifest)},
+        "conditions": ["arena-arena"],
+        "goals": [[1, 2], [2, 3]],
+        "methods": [
+            {"method": "warping"},
+            {"method": "warping", "label": "warping-coarse", "params": {"n_rho": 8}},
+        ],
+        **changes,
+    }
+
+
 def run_config(folder: Path, config: dict, *options: str, report: bool = False) -> Result:
     """Write ``config`` to ``folder/config.yaml`` and `homebench run` it as a user would (no
     progress bars; no PDF unless ``report``); the click result."""

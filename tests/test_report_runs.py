@@ -14,10 +14,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import yaml
-from click.testing import CliRunner
+from conftest import arena_config, run_config
 
-from homebench.cli import main
 from homebench.config import MetricsConfig
 from homebench.evaluation.jobs import RESULT_FORMAT
 from homebench.evaluation.results import build_tables, load_pairs
@@ -140,18 +138,9 @@ def write_fake_run(
 
 def real_arena_run(tmp_path: Path, manifest: Path) -> Path:
     """A real run of warping and min-warping on the analytic arena (two goals)."""
-    data = {
-        "name": "arena-run",
-        "output": str(tmp_path / "run"),
-        "databases": {"arena": str(manifest)},
-        "conditions": ["arena-arena"],
-        "goals": [[1, 2], [2, 3]],
-        "methods": [{"method": "warping"}, {"method": "min-warping"}],
-    }
     tmp_path.mkdir(parents=True, exist_ok=True)
-    config = tmp_path / "config.yaml"
-    config.write_text(yaml.safe_dump(data))
-    result = CliRunner().invoke(main, ["run", str(config), "--no-progress"])
+    methods = [{"method": "warping"}, {"method": "min-warping"}]
+    result = run_config(tmp_path, arena_config(tmp_path, manifest, methods=methods), report=True)
     assert result.exit_code == 0, result.output
     return tmp_path / "run"
 

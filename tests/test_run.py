@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 import yaml
 from click.testing import CliRunner
+from conftest import arena_config, write_arena_database
 
 from homebench.cli import main
 
@@ -20,20 +21,8 @@ TIME_COLUMNS = ["home_ms", "describe_ms", "goal_describe_ms"]
 
 
 def _config(tmp_path: Path, manifest: Path, **changes: object) -> Path:
-    data = {
-        "name": "arena-run",
-        "output": str(tmp_path / "run"),
-        "databases": {"arena": str(manifest)},
-        "conditions": ["arena-arena"],
-        "goals": [[1, 2], [2, 3]],
-        "methods": [
-            {"method": "warping"},
-            {"method": "warping", "label": "warping-coarse", "params": {"n_rho": 8}},
-        ],
-    }
-    data.update(changes)
     path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(data))
+    path.write_text(yaml.safe_dump(arena_config(tmp_path, manifest, **changes)))
     return path
 
 
@@ -186,8 +175,6 @@ def test_bad_input_is_one_line_and_exit_2(
 
 
 def test_missing_image_names_the_position(tmp_path: Path, arena_manifest: Path) -> None:
-    from conftest import write_arena_database
-
     manifest = write_arena_database(tmp_path / "broken")
     (tmp_path / "broken" / "pano" / "p2-3.png").unlink()
     code, _, err = _run(str(_config(tmp_path, manifest)))
