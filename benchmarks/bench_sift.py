@@ -81,7 +81,7 @@ def bench_solver(theta: np.ndarray, theta_p: np.ndarray, max_triples: int, repea
     triples = choose_triples(len(theta), max_triples, np.random.default_rng(0))
 
     def vectorised() -> tuple[float, float]:
-        s = solve_triples(theta, theta_p, triples)
+        s = solve_triples(theta, theta_p, triples, ahead_filter=True)  # as the reference
         alpha = circular_least_squares(s.alpha[s.valid])[0]
         return alpha, circular_least_squares(s.psi[s.valid])[0]
 

@@ -75,7 +75,8 @@ def test_registered_with_a_route_flag():
 @pytest.mark.parametrize("heading", [0.4, -2.0])
 def test_home_direction_along_x_and_y(dx, dy, step, heading):
     current = Pose(GOAL.x + dx, GOAL.y + dy, heading)
-    result = estimate(KltSector(), current, step)
+    # a turned current view (no compass) needs prealignment; an aligned one is the paper's case
+    result = estimate(KltSector(prealign=heading != GOAL.heading), current, step)
     truth = home_direction(current.xy, GOAL.xy, heading)
     assert result.angle is not None and angular_error(result.angle, truth) < TOLERANCE
     assert result.n_landmarks >= 40
@@ -87,14 +88,14 @@ def test_home_direction_along_x_and_y(dx, dy, step, heading):
 
 def test_goal_bisectors_also_home():
     current = Pose(GOAL.x - 0.6, GOAL.y, -1.0)
-    result = estimate(KltSector(bisectors="goal"), current, 0.15)
+    result = estimate(KltSector(bisectors="goal", prealign=True), current, 0.15)
     truth = home_direction(current.xy, GOAL.xy, current.heading)
     assert angular_error(result.angle, truth) < TOLERANCE
 
 
 @pytest.mark.parametrize("columns", [1, 45, -100, 144])
 def test_a_turn_on_the_spot_is_recovered_to_one_column_and_counts_as_home(columns):
-    method = KltSector()
+    method = KltSector(prealign=True)
     goal = render(GOAL)
     result = method.home(method.describe(rolled(goal, columns)), method.describe(goal))
     turn = -columns * GEOMETRY.column_step  # rolling right = turning clockwise
@@ -102,9 +103,39 @@ def test_a_turn_on_the_spot_is_recovered_to_one_column_and_counts_as_home(column
     assert result.diagnostics["goal_reached"]
 
 
+@pytest.mark.parametrize("columns", [45, 144])
+def test_without_prealignment_a_big_turn_on_the_spot_is_lost(columns):
+    method = KltSector()  # the paper's tracker: frame-rate steps, no turn of this size
+    goal = render(GOAL)
+    result = method.home(method.describe(rolled(goal, columns)), method.describe(goal))
+    turn = -columns * GEOMETRY.column_step
+    assert result.rotation is None or angular_error(result.rotation, turn) > GEOMETRY.column_step
+
+
+def test_identical_views_give_no_direction_and_no_turn():
+    method = KltSector()
+    goal = method.describe(render(GOAL))
+    result = method.home(goal, goal)
+    assert result.angle is None and result.rotation == pytest.approx(0.0, abs=1e-9)
+
+
+def test_the_linear_lcs_drops_features_that_cross_column_zero():
+    """Turning the current view by 1 rad moves features across column 0, keeping their
+    circular order: the circular reading keeps as many as without the turn, the linear fewer."""
+    kept = {}
+    for lcs in ("circular", "linear"):
+        method = KltSector(prealign=True, lcs=lcs)
+        for turn in (0.0, 1.0):
+            current = Pose(GOAL.x + 0.2, GOAL.y, GOAL.heading + turn)
+            kept[lcs, turn] = estimate(method, current, None).n_landmarks
+    assert kept["circular", 1.0] >= kept["circular", 0.0] - 3
+    assert kept["linear", 0.0] >= kept["circular", 0.0] - 3
+    assert kept["linear", 1.0] < kept["circular", 1.0] - 5
+
+
 def test_rotation_near_the_goal_is_the_heading_change():
     current = Pose(GOAL.x + 0.1, GOAL.y - 0.05, GOAL.heading - 1.3)
-    result = estimate(KltSector(), current, None)
+    result = estimate(KltSector(prealign=True), current, None)
     assert angular_error(result.rotation, -1.3) < math.radians(2.0)
 
 
@@ -144,7 +175,13 @@ def test_route_views_must_share_the_geometry():
 
 @pytest.mark.parametrize(
     "params",
-    [{"route_step": -1.0}, {"min_features": 2}, {"bisectors": "world"}, {"fb_threshold": 0.0}],
+    [
+        {"route_step": -1.0},
+        {"min_features": 2},
+        {"bisectors": "world"},
+        {"fb_threshold": 0.0},
+        {"lcs": "spiral"},
+    ],
 )
 def test_bad_parameters_are_config_errors(params):
     with pytest.raises(ConfigError):

@@ -89,7 +89,8 @@ def test_detect_keeps_away_from_existing_corners(start):
 @pytest.mark.parametrize("shift", [37, -53])
 def test_a_turn_across_column_zero_loses_no_track(start, shift):
     image, tracks = start
-    result = KltTracker().step(image, tracks, np.roll(image, shift, axis=1), replenish=False)
+    tracker = KltTracker(prealign=True)  # tens of columns at once: a no-compass test's turn
+    result = tracker.step(image, tracks, np.roll(image, shift, axis=1), replenish=False)
     expected = tracks.positions + np.float32([shift, 0])
     crossed = (expected[:, 0] < 0) | (expected[:, 0] >= GEOMETRY.width)
     expected[:, 0] %= GEOMETRY.width
@@ -99,11 +100,23 @@ def test_a_turn_across_column_zero_loses_no_track(start, shift):
     assert circular_column_distance(result.positions, expected, GEOMETRY.width).max() < 0.05
 
 
+def test_without_prealignment_as_in_the_paper_a_big_turn_is_not_followed(start):
+    """The paper tracks at frame rate and needs no prealignment; a 37-column turn in one step
+    is beyond the LK pyramid: tracks are lost or land elsewhere (what prealign is for)."""
+    image, tracks = start
+    result = KltTracker().step(image, tracks, np.roll(image, 37, axis=1), replenish=False)
+    expected = tracks.positions + np.float32([37, 0])
+    expected[:, 0] %= GEOMETRY.width
+    error = circular_column_distance(result.positions, expected, GEOMETRY.width)
+    assert np.mean(result.alive & (error < 0.05)) < 0.5
+
+
 def test_tracks_follow_a_small_motion_with_a_turn(start):
     image, tracks = start
     turn = 25 * GEOMETRY.column_step  # features cross column 0
     target = Pose(POSE.x + 0.06, POSE.y - 0.04, POSE.heading + turn)
-    result = KltTracker().step(image, tracks, render(target).image, replenish=False)
+    tracker = KltTracker(prealign=True)
+    result = tracker.step(image, tracks, render(target).image, replenish=False)
     expected = reproject(tracks.positions, POSE, target)
     error = circular_column_distance(result.positions, expected, GEOMETRY.width)[result.alive]
     crossed = np.abs(result.positions[:, 0] - tracks.positions[:, 0]) > GEOMETRY.width / 2
@@ -121,14 +134,14 @@ def test_forward_backward_check_drops_a_feature_whose_patch_changed(start):
     half = 12  # the LK window (21 x 21) and a little more
     noise = np.random.default_rng(0).integers(0, 256, (2 * half + 1, 2 * half + 1))
     changed[v - half : v + half + 1, u - half : u + half + 1] = noise
-    result = KltTracker().step(image, tracks, changed, replenish=False)
+    result = KltTracker(fb_threshold=1.0).step(image, tracks, changed, replenish=False)
     far = circular_column_distance(tracks.positions, tracks.positions[k], GEOMETRY.width) > 40
     assert not result.alive[k]
     assert result.alive[far].all()
     np.testing.assert_array_equal(result.positions[k], tracks.positions[k])  # last position
     assert k not in result.survivors().ids
-    # Without the check, KLT keeps the feature, somewhere else: it is the check that drops it.
-    unchecked = KltTracker(fb_threshold=1e9).step(image, tracks, changed, replenish=False)
+    # Without the check (the paper's life-cycle), KLT keeps the feature, somewhere else.
+    unchecked = KltTracker().step(image, tracks, changed, replenish=False)
     assert unchecked.alive[k]
     assert np.hypot(*(unchecked.positions[k] - tracks.positions[k])) > 2.0
 

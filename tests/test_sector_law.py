@@ -15,9 +15,9 @@ import pytest
 from homebench.geometry import PanoramaGeometry, Pose, angle_diff, wrap_angle
 from homebench.methods.sector_law import (
     bearings,
-    circular_lcs,
     goal_reached,
     heading_change,
+    longest_common_order,
     longest_increasing,
     motion_vector,
     order_filter,
@@ -132,7 +132,7 @@ def test_longest_increasing():
 )
 def test_circular_lcs_on_hand_made_sequences(second, dropped):
     first = [0, 1, 2, 3, 4, 5]
-    kept = circular_lcs(first, second)
+    kept = longest_common_order(first, second)
     assert set(first) - set(kept) in dropped
     assert kept == sorted(kept)  # in the first order
 
@@ -155,7 +155,7 @@ def test_circular_lcs_matches_brute_force_on_random_permutations():
             for items in itertools.combinations(first, size)
             if _same_circular_order(set(items), first, second)
         )
-        kept = circular_lcs(first, second)
+        kept = longest_common_order(first, second)
         assert len(kept) == best
         assert _same_circular_order(set(kept), first, second)
 
@@ -167,6 +167,15 @@ def test_order_filter_keeps_order_across_minus_pi_and_drops_a_swap():
     current[[1, 2]] = current[[2, 1]]
     kept = order_filter(current, goal)
     assert kept.sum() == 5 and not (kept[1] and kept[2])
+
+
+def test_the_linear_reading_drops_features_that_cross_the_start_of_the_sequence():
+    goal = np.array([-3.0, -2.0, -1.0, 0.5, 2.0, 3.1])
+    current = wrap_angle(goal + 0.5)  # 3.1 crosses +-pi, the start of the sequences
+    assert order_filter(current, goal).all()  # the circular reading keeps it
+    kept = order_filter(current, goal, circular=False)
+    assert kept.tolist() == [True, True, True, True, True, False]
+    assert longest_common_order([0, 1, 2, 3], [2, 3, 0, 1], circular=False) in ([0, 1], [2, 3])
 
 
 @pytest.mark.parametrize("turn", [0.0, 0.3, -1.2, math.pi - 0.01, -math.pi + 0.02])

@@ -116,18 +116,66 @@ def test_elimination_removes_injected_mismatches():
     assert angular_error(pn.angle, truth) > 1e-3  # the mismatches did harm without elimination
 
 
-def test_duplicate_keypoints_count_once():
+def _doubled_goal() -> tuple[SiftFeatures, SiftFeatures]:
+    """A goal whose 20 landmarks each appear twice (OpenCV's second orientation: same place,
+    another descriptor), and a current view of the 20."""
     landmarks, descriptors = _world(n=20, seed=2)
     goal_features = _features(landmarks, descriptors, GOAL)
-    doubled = SiftFeatures(  # OpenCV's second orientation: same place, another descriptor
+    doubled = SiftFeatures(
         positions=np.vstack([goal_features.positions] * 2),
         descriptors=np.vstack([descriptors, descriptors + 1.0]),
         azimuths=np.concatenate([goal_features.azimuths] * 2),
         sides=np.concatenate([goal_features.sides] * 2),
     )
-    current = _features(landmarks, descriptors, Pose(GOAL.x + 0.3, GOAL.y, 0.0))
+    return _features(landmarks, descriptors, Pose(GOAL.x + 0.3, GOAL.y, 0.0)), doubled
+
+
+def test_duplicate_keypoints_count_twice_as_in_the_paper():
+    current, doubled = _doubled_goal()
     estimate = PN.home(current, doubled)
-    assert estimate.diagnostics["n_matches"] == 20
+    assert estimate.diagnostics["n_matches"] == 40
+    truth = home_direction(np.array([GOAL.x + 0.3, GOAL.y]), GOAL.xy, 0.0)
+    assert angular_error(estimate.angle, truth) < EXACT  # a duplicate pair is still true
+
+
+def test_distinct_matches_counts_duplicate_keypoints_once():
+    current, doubled = _doubled_goal()
+    method = Sift(horizon_constraint=False, half_plane_constraint=False, distinct_matches=True)
+    assert method.home(current, doubled).diagnostics["n_matches"] == 20
+
+
+@pytest.mark.parametrize("method", [P, PN], ids=["P", "PN"])
+def test_identical_views_give_a_rotation_without_direction(method):
+    landmarks, descriptors = _world()
+    features = _features(landmarks, descriptors, GOAL)
+    estimate = method.home(features, features)
+    assert estimate.angle is None
+    assert estimate.rotation == pytest.approx(0.0, abs=EXACT)
+    assert estimate.diagnostics["n_direction_triples"] == 0
+
+
+def test_the_ahead_filter_removes_triples_the_paper_keeps():
+    landmarks, descriptors = _world(n=40, seed=6)
+    current = Pose(GOAL.x - 0.4, GOAL.y + 0.3, 2.5)
+    mixed = descriptors.copy()
+    mixed[[0, 20]] = mixed[[20, 0]]  # one mismatch: some triples with it put a landmark behind
+    args = (_features(landmarks, mixed, current), _features(landmarks, descriptors, GOAL))
+    kept = PN.home(*args).diagnostics
+    filtered = (
+        Sift(horizon_constraint=False, half_plane_constraint=False, ahead_filter=True)
+        .home(*args)
+        .diagnostics
+    )
+    assert kept["n_valid_triples"] == kept["n_triples"]
+    assert filtered["n_valid_triples"] < kept["n_valid_triples"]
+
+
+def test_null_max_triples_solves_every_triple():
+    landmarks, descriptors = _world(n=30, seed=7)
+    current = _features(landmarks, descriptors, Pose(GOAL.x + 0.3, GOAL.y, 0.0))
+    goal = _features(landmarks, descriptors, GOAL)
+    assert Sift(max_triples=None).home(current, goal).diagnostics["n_triples"] == 4060
+    assert P.home(current, goal).diagnostics["n_triples"] == 2000
 
 
 def test_too_few_landmarks_give_no_estimate():

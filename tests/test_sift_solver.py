@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from itertools import combinations
+from math import comb
 
 import numpy as np
 import pytest
@@ -96,7 +97,7 @@ def test_the_root_with_landmarks_behind_the_robot_is_not_taken():
         assert angular_error(solution.psi[0], heading - GOAL.heading) < EXACT
 
 
-def test_degenerate_and_impossible_triples_are_discarded():
+def _degenerate_and_mismatched() -> tuple[np.ndarray, np.ndarray]:
     theta = np.array(
         [
             [0.1, 0.1, 1.0],  # two landmarks on one ray from both places
@@ -106,10 +107,37 @@ def test_degenerate_and_impossible_triples_are_discarded():
     )
     theta_p = theta - 0.3
     theta_p[2, 1] = theta[2, 1] + math.pi - 0.3  # seen behind: no landmark ahead on all rays
-    solutions = solve_triples(theta.ravel(), theta_p.ravel(), np.arange(9).reshape(3, 3))
-    assert solutions.valid.tolist() == [False, True, False]
+    return theta.ravel(), theta_p.ravel()
+
+
+def test_degenerate_triples_are_discarded_and_the_paper_keeps_the_rest():
+    solutions = solve_triples(*_degenerate_and_mismatched(), np.arange(9).reshape(3, 3))
+    assert solutions.valid.tolist() == [False, True, True]  # eq. 3 has a real solution
     assert solutions.rho[1] == pytest.approx(0.0, abs=EXACT)
     assert solutions.psi[1] == pytest.approx(0.3, abs=EXACT)
+
+
+def test_the_ahead_filter_discards_triples_that_put_a_landmark_behind_the_robot():
+    triples = np.arange(9).reshape(3, 3)
+    solutions = solve_triples(*_degenerate_and_mismatched(), triples, ahead_filter=True)
+    assert solutions.valid.tolist() == [False, True, False]
+
+
+def test_identical_bearings_give_no_direction_and_no_turn():
+    """rho = 0 in every triple: eq. 3 holds for any alpha, so there is no home direction."""
+    theta = GOAL.bearing_to(_landmarks(GOAL, np.full(20, 2.0), seed=10))[0]
+    movement = estimate_movement(theta, theta, max_triples=500, seed=0)
+    assert movement is not None
+    assert movement.alpha is None and movement.home_direction is None
+    assert movement.psi == pytest.approx(0.0, abs=EXACT)
+    assert movement.n_valid == movement.n_triples and movement.n_direction == 0
+
+
+def test_a_turn_on_the_spot_gives_the_turn_without_a_direction():
+    theta = GOAL.bearing_to(_landmarks(GOAL, np.full(20, 2.0), seed=11))[0]
+    movement = estimate_movement(theta, theta - 0.7, max_triples=500, seed=0)
+    assert movement.home_direction is None
+    assert angular_error(movement.psi, 0.7) < EXACT
 
 
 def test_too_few_landmarks_or_no_solution_gives_none():
@@ -178,6 +206,13 @@ def test_all_triples_when_few_a_seeded_sample_when_many():
     again = choose_triples(40, 3000, np.random.default_rng(1))
     np.testing.assert_array_equal(sample, again)
     assert choose_triples(2, 10, np.random.default_rng(0)).shape == (0, 3)
+
+
+def test_no_limit_solves_every_triple():
+    every = choose_triples(30, None, np.random.default_rng(0))
+    assert [tuple(t) for t in every] == list(combinations(range(30), 3))
+    bearings = _bearings(_landmarks(GOAL, np.full(30, 2.5), seed=12), Pose(0.9, 0.1, 2.0))
+    assert estimate_movement(*bearings, max_triples=None, seed=0).n_triples == comb(30, 3)
 
 
 def test_sampled_estimates_are_deterministic():

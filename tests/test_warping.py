@@ -17,7 +17,8 @@ from synthetic_panorama import home_errors, render, rolled
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
-from homebench.methods.warping import Warping, warp_tables
+from homebench.methods.base import View
+from homebench.methods.warping import Warping, normalize_signal, warp_tables
 
 TOLERANCE = math.radians(15.0)
 STEP = math.radians(5.0)  # one psi step: the rotation is found to within one step
@@ -135,3 +136,47 @@ def test_registered_with_table_1_defaults():
 def test_bad_parameters_are_config_errors(params):
     with pytest.raises(ConfigError):
         Warping(**params)
+
+
+@pytest.mark.parametrize("mode", ["equalize", "zscore"])
+def test_normalized_signals_ignore_gain_and_offset(mode):
+    signal = _ring_texture(2.0 * np.pi * np.arange(72) / 72)
+    same = normalize_signal(signal, mode)
+    np.testing.assert_allclose(normalize_signal(3.0 * signal + 40.0, mode), same, atol=1e-12)
+    if mode == "equalize":  # any increasing grey-level mapping, even a non-linear one
+        np.testing.assert_array_equal(normalize_signal(np.exp(signal), mode), same)
+    assert np.all(
+        normalize_signal(np.full(72, 90.0), mode) == normalize_signal(np.full(72, 7.0), mode)
+    )  # a flat signal stays flat
+
+
+@pytest.mark.parametrize("mode", ["none", "equalize", "zscore"])
+def test_normalize_makes_the_search_blind_to_a_brighter_goal(mode):
+    """A goal image twice as bright (exact in 8 bits below 128) changes no normalised cost."""
+    dim = render(GOAL)
+    dim = View((dim.image // 2).astype(np.uint8), dim.geometry)
+    bright = View(dim.image * 2, dim.geometry)  # exact: every value is even and <= 254
+    method = Warping(normalize=mode)
+    current = method.describe(render(Pose(GOAL.x + 0.5, GOAL.y - 0.3, 1.0)))
+    costs = method.costs(current, method.describe(bright))
+    unchanged = np.allclose(costs, method.costs(current, method.describe(dim)), atol=1e-9)
+    assert unchanged == (mode != "none")  # the paper's grey levels feel the gain
+
+
+def test_dot_distance_is_minus_the_scalar_product():
+    rng = np.random.default_rng(5)
+    current, goal = rng.uniform(0, 255, 72), rng.uniform(0, 255, 72)
+    ssd = Warping().costs(current, goal)
+    dot = Warping(distance="dot").costs(current, goal)
+    # ssd = ||c||^2 + ||w||^2 - 2 c.w and dot = -c.w: ssd - 2 dot is the two signals' energy,
+    # which depends on (rho, alpha) through the warped signal but never on psi
+    energy = ssd - 2.0 * dot
+    np.testing.assert_allclose(energy, energy[..., :1] * np.ones(72), rtol=1e-9)
+    assert not np.allclose(ssd, dot)
+
+
+def test_unknown_choices_are_config_errors():
+    with pytest.raises(ConfigError, match="normalize must be one of none, equalize, zscore"):
+        Warping(normalize="histogram")
+    with pytest.raises(ConfigError, match="distance"):
+        Warping(distance="sad")

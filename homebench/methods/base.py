@@ -65,7 +65,8 @@ class HomingMethod(Protocol):
     image_kind: ClassVar[ImageKind]
 
     def describe(self, view: View) -> Any:
-        """Per-image features; must be picklable (they are cached and sent between workers)."""
+        """Per-image features, stored in feature files: see
+        :mod:`homebench.evaluation.features_io` for the types they may hold."""
         ...
 
     def home(self, current: Any, goal: Any) -> HomingEstimate:

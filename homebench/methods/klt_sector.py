@@ -4,11 +4,17 @@
 corners with pyramidal KLT through the intermediate views of ``route`` (from the goal towards
 the current place; the paper gets correspondences by tracking along the path, section 2.2) and
 into the current view, converts both ends to bearings (eq. 1), keeps the features that pass the
-ordering filter (longest common circular subsequence) and sums the sector vectors into M
-(section 2.1, see :mod:`homebench.methods.sector_law`). The home direction is M's direction in
-the current robot frame; the rotation is the median angular shift of the kept features (the
-paper's pose correction, exact only where the two views were taken at one place). Fewer than
-``min_features`` kept features give :meth:`HomingEstimate.none`.
+ordering filter (longest common subsequence of the two retinotopic orders) and sums the sector
+vectors into M (section 2.1, see :mod:`homebench.methods.sector_law`). The home direction is
+M's direction in the current robot frame; the rotation is the median angular shift of the kept
+features (the paper's pose correction, exact only where the two views were taken at one place).
+Fewer than ``min_features`` kept features give :meth:`HomingEstimate.none`; ``M = 0`` (identical
+views) gives the rotation and no direction.
+
+Departures (options, off by default): the tracker's ``prealign`` and ``fb_threshold`` (see
+:mod:`homebench.methods.klt_tracking`). Readings: ``lcs`` (where a circular order starts),
+``bisectors`` (which view's sector bisector), ``goal_threshold``, ``route_step`` and the
+tracker's unstated settings.
 
 The engine decides the route: ``uses_route`` tells it to pass the intermediate views, taken
 ``route_step`` grid units apart along the straight line from the goal to the current place
@@ -29,10 +35,12 @@ from homebench.errors import ConfigError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.klt_tracking import KltTracker, Tracks
+from homebench.methods.params import check_choices, documented, param, same_as
 from homebench.methods.registry import register
 from homebench.methods.sector_law import (
     MIN_FEATURES,
     BisectorFrame,
+    LcsOrder,
     bearings,
     goal_reached,
     heading_change,
@@ -42,9 +50,9 @@ from homebench.methods.sector_law import (
 
 F32Array = NDArray[np.float32]
 
-#: Tracker parameters the method exposes (replenishing plays no part between two views).
 #: Route prefixes whose tracks one method instance keeps (a job's goal and its routes).
 ROUTE_CACHE_SIZE = 4096
+#: Tracker parameters the method exposes (replenishing plays no part between two views).
 _TRACKER_FIELDS = tuple(f.name for f in fields(KltTracker) if f.name != "min_tracks")
 
 
@@ -60,36 +68,59 @@ class KltFeatures:
 
 
 @register
+@documented
 @dataclass(frozen=True)
 class KltSector:
-    """KLT tracking + sector law; tracker parameters and defaults as in :class:`KltTracker`.
-
-    ``goal_threshold`` (radians): the paper's stop test on ``|M|`` (diagnostic
-    ``goal_reached``); ``|M|`` grows linearly with the distance and with the number of
-    features, and the default 0.02 is what the analytic arena gives 1.6 cm from the goal with
-    ~70 kept features. ``route_step``: 0.5 grid units (15 cm on Vardy's grid) shifts features
-    by a few columns per step, which KLT follows with few losses; tracking directly over more
-    than about 1 m on the arena gives wrong correspondences. ``bisectors``: see
-    :mod:`homebench.methods.sector_law`.
-    """
+    """KLT tracking + sector law (seed 000); tracker parameters as in :class:`KltTracker`."""
 
     name: ClassVar[str] = "klt-sector"
     image_kind: ClassVar[ImageKind] = "unfolded"
     uses_route: ClassVar[bool] = True
 
-    route_step: float = 0.5
-    max_corners: int = KltTracker.max_corners
-    quality_level: float = KltTracker.quality_level
-    min_distance: float = KltTracker.min_distance
-    block_size: int = KltTracker.block_size
-    window_size: int = KltTracker.window_size
-    pyramid_levels: int = KltTracker.pyramid_levels
-    fb_threshold: float = KltTracker.fb_threshold
-    min_eigen: float = KltTracker.min_eigen
-    prealign: bool = KltTracker.prealign
-    min_features: int = MIN_FEATURES
-    goal_threshold: float = 0.02
-    bisectors: BisectorFrame = "current"
+    route_step: float = param(
+        0.5,
+        "Grid units between the views tracked through from the goal to the current place (0: "
+        "track directly).",
+        reading="the paper tracks at frame rate along the path (section 2.2); a grid database "
+        "has views every grid unit, and 0.5 units (15 cm on Vardy's grid) shifts features by a "
+        "few columns per step, which KLT follows with few losses (tracking directly over more "
+        "than about 1 m gives wrong correspondences)",
+    )
+    max_corners: int = same_as(KltTracker, "max_corners")
+    quality_level: float = same_as(KltTracker, "quality_level")
+    min_distance: float = same_as(KltTracker, "min_distance")
+    block_size: int = same_as(KltTracker, "block_size")
+    window_size: int = same_as(KltTracker, "window_size")
+    pyramid_levels: int = same_as(KltTracker, "pyramid_levels")
+    fb_threshold: float | None = same_as(KltTracker, "fb_threshold")
+    min_eigen: float = same_as(KltTracker, "min_eigen")
+    prealign: bool = same_as(KltTracker, "prealign")
+    min_features: int = param(
+        MIN_FEATURES, "Fewest features left by the ordering filter that give an estimate (>= 3)."
+    )
+    goal_threshold: float = param(
+        0.02,
+        "Stop test on |M| (radians; diagnostic goal_reached).",
+        reading="the paper's 'predefined threshold' has no value; |M| grows with the distance "
+        "and the number of features, and 0.02 is |M| 1.6 cm from the goal with ~70 features on "
+        "the analytic arena",
+    )
+    bisectors: BisectorFrame = param(
+        "current",
+        "Frame of the sector bisectors: the current view's, or the goal view's turned by the "
+        "estimated heading change.",
+        reading="'a vector parallel to the bisector of this sector' does not say in which view; "
+        "the current one, in which the robot acts and which needs no compass",
+    )
+    lcs: LcsOrder = param(
+        "circular",
+        "Ordering filter: longest common subsequence of the circular orders (any start) or of "
+        "the linear orders read from column 0 of each panorama.",
+        reading="'features that do not appear in the same order in panoramas' are dropped by "
+        "an LCS of two sequences; a panorama's order is circular and where the sequences start "
+        "is not said: any start, as the order itself has none (linear drops features that "
+        "cross column 0 between the views, though they kept their order)",
+    )
     # Tracks of the goal's corners through route prefixes, keyed by the views' digests: the
     # currents of one goal share their first route views. Not a parameter.
     _route_tracks: dict[tuple[str, ...], Tracks] = field(
@@ -102,8 +133,7 @@ class KltSector:
             raise ConfigError("klt-sector: route_step and goal_threshold must be >= 0")
         if self.min_features < MIN_FEATURES:
             raise ConfigError(f"klt-sector: min_features must be >= {MIN_FEATURES}")
-        if self.bisectors not in ("current", "goal"):
-            raise ConfigError("klt-sector: bisectors must be 'current' or 'goal'")
+        check_choices(self)
 
     @property
     def tracker(self) -> KltTracker:
@@ -164,7 +194,7 @@ class KltSector:
         at_goal, at_current = self.correspondences(current, goal, route)
         theta_goal = bearings(at_goal[:, 0], goal.geometry)
         theta_current = bearings(at_current[:, 0], current.geometry)
-        kept = order_filter(theta_current, theta_goal)
+        kept = order_filter(at_current[:, 0], at_goal[:, 0], circular=self.lcs == "circular")
         n_kept = int(np.count_nonzero(kept))
         info = {"n_tracked": len(at_goal), "route_length": len(route)}
         if n_kept < self.min_features:

@@ -11,24 +11,25 @@ tracking run on the image padded circularly by :meth:`KltTracker.pad_width` colu
 and positions are wrapped back to ``[0, width)``, so a corner that crosses column 0 keeps its
 track. Rows do not wrap (top and bottom are real borders).
 
-Prealignment (``prealign``, on by default; a departure for the benchmark's sake): before each
-step the global column shift between the two panoramas (the peak of their circular
-cross-correlation along the rows) seeds every track's LK search. The paper's robot turns at most
-3 deg/s while tracking at frame rate, so its inter-frame shift is about zero and prealignment
-changes nothing there; the benchmark turns views by arbitrary angles (no-compass tests) and the
-panoramas are too short for a pyramid deep enough to find shifts of tens of columns. This is
-the paper's own pose correction (section 2.3: features are looked for around locations shifted
-by the heading change) applied at every step.
+Prealignment (``prealign``, a departure, off by default): before each step the global column
+shift between the two panoramas (the peak of their circular cross-correlation along the rows)
+seeds every track's LK search. The paper's robot turns at most 3 deg/s while tracking at frame
+rate, so its inter-frame shift is about zero and the paper needs none. Turn it on where views
+are turned by arbitrary angles between steps — the benchmark's no-compass tests, which rotate
+current views by whole columns — since the panoramas are too short for a pyramid deep enough to
+find shifts of tens of columns. It is the paper's own pose correction (section 2.3: features are
+looked for around locations shifted by the heading change) applied at every step.
 
-Life-cycle (section 2.3): a track is dropped when KLT loses it, when the forward-backward check
-fails (tracking the new position back into the previous image must land within
-``fb_threshold`` pixels of where it started; a patch that changed does not come back), or when
-its window no longer satisfies eq. 3: LK refuses a window whose gradient matrix has a smaller
-eigenvalue below ``min_eigen`` (OpenCV's ``minEigThreshold``: the eigenvalue divided by the
-window's pixel count; default OpenCV's 1e-4), and the backward pass computes that matrix in the
-new image. An absolute threshold, unlike the detection's relative one, so that new strong
-texture elsewhere in the image does not drop the tracks. New corners are detected, away
-from the surviving ones, when fewer than ``min_tracks`` survive.
+Life-cycle (section 2.3): a track is dropped when KLT loses it or when its window no longer
+satisfies eq. 3. LK refuses a window whose gradient matrix has a smaller eigenvalue below
+``min_eigen`` (OpenCV's ``minEigThreshold``: the eigenvalue divided by the window's pixel
+count; default OpenCV's 1e-4): the forward pass tests the window in the previous image, and a
+backward pass (the new position tracked back into the previous image) tests it in the new one,
+which is where the paper applies eq. 3. An absolute threshold, unlike the detection's relative
+one, so that new strong texture elsewhere in the image does not drop the tracks. With
+``fb_threshold`` (a departure, off by default) the backward pass must also land within that
+many pixels of where the track started (a patch that changed does not come back). New corners
+are detected, away from the surviving ones, when fewer than ``min_tracks`` survive.
 
 Positions are (u, v) = (column, row) pixels, float32, as everywhere in homebench.
 """
@@ -42,6 +43,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.errors import ConfigError
+from homebench.methods.params import documented, param
 
 F32Array = NDArray[np.float32]
 IdArray = NDArray[np.int64]
@@ -89,27 +91,61 @@ def circular_column_distance(a: F32Array, b: F32Array, width: int) -> NDArray[np
     return np.hypot(np.minimum(du, width - du), dv)
 
 
+_OPENCV = "not stated; OpenCV's usual value"
+
+
+@documented
 @dataclass(frozen=True)
 class KltTracker:
-    """Detection and step-by-step tracking of corners in a sequence of panoramas (uint8).
+    """Detection and step-by-step tracking of corners in a sequence of panoramas (uint8)."""
 
-    Defaults: ``block_size`` 7 (the N x N neighbourhood of eq. 2), ``quality_level`` 0.01 and
-    ``min_distance`` 5 px (OpenCV's usual), a 21 x 21 LK window and ``pyramid_levels`` 3 (the
-    coarsest level is image / 8; OpenCV's defaults), forward-backward tolerance 1 px,
-    replenishment below ``min_tracks`` = 50 (the paper kept at least 80 features between
-    intermediate positions, in larger images).
-    """
-
-    max_corners: int = 150
-    quality_level: float = 0.01
-    min_distance: float = 5.0
-    block_size: int = 7
-    window_size: int = 21
-    pyramid_levels: int = 3
-    fb_threshold: float = 1.0
-    min_eigen: float = 1e-4
-    prealign: bool = True
-    min_tracks: int = 50
+    max_corners: int = param(
+        150,
+        "Corners detected in a view (and the most kept alive when replenishing).",
+        reading="not stated; the paper kept at least 80 features between intermediate "
+        "positions, in larger images",
+    )
+    quality_level: float = param(
+        0.01,
+        "Eq. 3's threshold t, relative: times the image's largest smaller eigenvalue.",
+        reading=_OPENCV,
+    )
+    min_distance: float = param(
+        5.0, "Least distance between detected corners (pixels).", reading=_OPENCV
+    )
+    block_size: int = param(7, "N of eq. 2's N x N neighbourhood (pixels).", reading=_OPENCV)
+    window_size: int = param(21, "LK window (pixels, square).", reading=_OPENCV)
+    pyramid_levels: int = param(
+        3,
+        "LK pyramid levels above the image (the coarsest is image / 2**levels).",
+        reading="the paper's KLT (Tomasi and Kanade) solves eq. 4-5 at one resolution; "
+        "OpenCV's pyramidal LK with its default depth, which the paper's small inter-frame "
+        "displacements do not need and do not mind",
+    )
+    fb_threshold: float | None = param(
+        None,
+        "Forward-backward check: drop a track whose backward pass lands farther than this from "
+        "its start (pixels); null: no check.",
+        paper="drops a feature when KLT loses it or eq. 3 fails (section 2.3), without a "
+        "forward-backward check; the check drops features whose patch changed, which KLT may "
+        "otherwise follow to a wrong place",
+    )
+    min_eigen: float = param(
+        1e-4,
+        "Eq. 3's drop threshold for tracks: LK's minEigThreshold (smaller eigenvalue / pixels).",
+        reading="the paper's t has no value; OpenCV's default",
+    )
+    prealign: bool = param(
+        False,
+        "Seed every LK search with the global column shift between the two views; turn on for "
+        "no-compass tests with rotated current views.",
+        paper="tracks at frame rate while turning at most 3 deg/s, so no shift needs finding",
+    )
+    min_tracks: int = param(
+        50,
+        "Detect new corners when fewer tracks survive a step.",
+        reading="not stated; new features appear during the journey (Fig. 3)",
+    )
 
     def __post_init__(self) -> None:
         if self.max_corners < 1 or self.min_tracks < 0:
@@ -118,8 +154,8 @@ class KltTracker:
             raise ConfigError("klt: need 0 < quality_level < 1 and min_eigen >= 0")
         if self.block_size < 3 or self.window_size < 3 or self.pyramid_levels < 0:
             raise ConfigError("klt: block_size and window_size >= 3, pyramid_levels >= 0")
-        if self.min_distance < 0 or not self.fb_threshold > 0:
-            raise ConfigError("klt: need min_distance >= 0 and fb_threshold > 0")
+        if self.min_distance < 0 or not (self.fb_threshold is None or self.fb_threshold > 0):
+            raise ConfigError("klt: need min_distance >= 0 and fb_threshold > 0 or null")
 
     def pad_width(self, width: int) -> int:
         """Columns of circular padding on each side: the LK window at the coarsest level."""
@@ -233,8 +269,9 @@ class KltTracker:
                 & (moved[:, 1] >= 0)
                 & (moved[:, 1] <= height - 1)
             )
-            fb_error = circular_column_distance(back, start, width)
-            alive = forward_ok & backward_ok & inside & (fb_error <= self.fb_threshold)
+            alive = forward_ok & backward_ok & inside
+            if self.fb_threshold is not None:
+                alive &= circular_column_distance(back, start, width) <= self.fb_threshold
             new = moved - offset
             new[:, 0] %= width
             positions[alive] = new[alive]

@@ -7,11 +7,13 @@ being feature k.
 - **Bearings** (eq. 1): ``S_i = 2*pi*x_i / width``, via
   :meth:`homebench.geometry.PanoramaGeometry.column_to_azimuth` (which also honours the zero
   column and direction of a panorama).
-- **Ordering filter**: features whose circular (retinotopic) order differs between S and G are
-  dropped; the kept ones are a longest common subsequence of the two circular orders. The start
-  of a circular order is arbitrary, so the first order is cut anywhere and every rotation of the
-  second is tried. The features are the same in both views, so each LCS is a longest increasing
-  subsequence of positions (O(n log n)); all rotations cost O(n^2 log n).
+- **Ordering filter**: features whose retinotopic order differs between S and G are dropped;
+  the kept ones are a longest common subsequence of the two orders. A panorama's order is
+  circular and the paper does not say where its sequences start; the default reading
+  (``circular``) cuts the first order anywhere and tries every rotation of the second, the
+  option ``linear`` reads both from their smallest position (column 0 when given columns). The
+  features are the same in both views, so each LCS is a longest increasing subsequence of
+  positions (O(n log n)); all rotations cost O(n^2 log n).
 - **Sectors**: consecutive kept features in the circular order of S bound n sectors (the last
   one wraps round to the first feature); sector k has angular size ``S_k`` in S and ``G_k`` in G
   (ccw from its first to its second feature, in [0, 2*pi)).
@@ -45,6 +47,7 @@ from homebench.geometry import TWO_PI, PanoramaGeometry, angle_diff, circular_me
 
 FloatArray = NDArray[np.float64]
 BisectorFrame = Literal["current", "goal"]
+LcsOrder = Literal["circular", "linear"]
 
 #: Fewest features the law needs (two independent sectors).
 MIN_FEATURES = 3
@@ -77,8 +80,12 @@ def longest_increasing(values: Sequence[int]) -> list[int]:
     return chain[::-1]
 
 
-def circular_lcs(first: Sequence[Hashable], second: Sequence[Hashable]) -> list[Hashable]:
-    """A longest common subsequence of two circular orders of distinct items.
+def longest_common_order(
+    first: Sequence[Hashable], second: Sequence[Hashable], circular: bool = True
+) -> list[Hashable]:
+    """A longest common subsequence of two orders of distinct items, circular (``second`` may
+    start anywhere; ``first``'s start is arbitrary too, as its rotations give the same LCS
+    lengths) or linear.
 
     Items in only one order are ignored. Returns the kept items in ``first``'s order (starting
     where ``first`` starts).
@@ -86,7 +93,7 @@ def circular_lcs(first: Sequence[Hashable], second: Sequence[Hashable]) -> list[
     position = {item: i for i, item in enumerate(first)}
     common = [item for item in second if item in position]
     best: list[Hashable] = []
-    for start in range(len(common)):
+    for start in range(len(common) if circular else min(len(common), 1)):
         rotated = common[start:] + common[:start]
         chain = longest_increasing([position[item] for item in rotated])
         if len(chain) > len(best):
@@ -94,16 +101,17 @@ def circular_lcs(first: Sequence[Hashable], second: Sequence[Hashable]) -> list[
     return sorted(best, key=position.__getitem__)
 
 
-def _circular_order(theta: FloatArray) -> list[int]:
-    """Feature indices sorted by bearing (shape (n,)): the view's circular order, cut anywhere."""
-    return np.argsort(theta, kind="stable").tolist()
+def order_filter(current: ArrayLike, goal: ArrayLike, circular: bool = True) -> NDArray[np.bool_]:
+    """Mask (n,) of the features kept by the ordering filter.
 
-
-def order_filter(current: ArrayLike, goal: ArrayLike) -> NDArray[np.bool_]:
-    """Mask (n,) of the features kept by the ordering filter (bearings of shape (n,))."""
+    ``current``, ``goal``: positions of the n features along each view's order, bearings or
+    panorama columns, shape (n,); ``circular``: see the module docstring.
+    """
     s = np.asarray(current, dtype=np.float64)
     g = np.asarray(goal, dtype=np.float64)
-    kept = circular_lcs(_circular_order(s), _circular_order(g))
+    order_s = np.argsort(s, kind="stable").tolist()
+    order_g = np.argsort(g, kind="stable").tolist()
+    kept = longest_common_order(order_s, order_g, circular)
     mask = np.zeros(s.shape, dtype=bool)
     mask[np.asarray(kept, dtype=np.intp)] = True
     return mask

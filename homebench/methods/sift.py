@@ -10,22 +10,28 @@ Pipeline of :meth:`Sift.home` (seed 001, Figure 5):
    paper's 0.04 / 5 (grey levels scaled to [0, 1]). Each landmark keeps its azimuth and its side
    of the horizon circle (eq. 8), both from :mod:`homebench.geometry`.
 2. **Matching** (:mod:`~homebench.methods.sift_matching`): each goal landmark to its nearest
-   current one, Lowe's ratio test (0.8, Lowe 2004, as the paper names no value), optionally
-   cross-checked. OpenCV returns one keypoint per dominant orientation, so a place can appear
-   twice; pairs that repeat both positions are kept once (one landmark, one vote).
+   current one with Lowe's ratio test (the paper names no matching rule), optionally
+   cross-checked. OpenCV returns one keypoint per dominant orientation, as Lowe's SIFT does, so
+   a place can be matched twice; the paper counts every match (``distinct_matches`` merges
+   them, an option).
 3. **Mismatch elimination** (:mod:`~homebench.methods.sift_elimination`): constraint 1, then
    constraint 2 (nR = 5, VTH = 4); each stage is a switch, so the paper's P (both on) and PN
    (both off) are two config entries of this one method.
 4. **Homing angle** (:mod:`~homebench.methods.sift_solver`): eq. 3 in closed form for every
-   landmark triple when there are at most ``max_triples`` of them, else for ``max_triples``
-   triples drawn by a generator seeded by ``seed`` and the matched bearings themselves (so a
-   pair always gives the same answer); alpha and psi by exact circular least squares (eq. 5-6);
-   ``beta = pi + alpha - psi`` (eq. 7). The estimate's ``rotation`` is psi, the heading change
-   from goal to current (ccw); its ``score`` is the RMS circular deviation of the triples'
-   alphas (radians, lower is better).
+   landmark triple (or a seeded sample of ``max_triples`` of them), alpha and psi by exact
+   circular least squares (eq. 5-6), ``beta = pi + alpha - psi`` (eq. 7). The estimate's
+   ``rotation`` is psi, the heading change from goal to current (ccw); its ``score`` is the RMS
+   circular deviation of the triples' alphas (radians, lower is better). Triples with rho = 0
+   carry no alpha: identical views give a rotation and no direction.
+
+Departures from the paper are options that default to the paper: ``ahead_filter``,
+``distinct_matches``, ``cross_check`` (and the variant ``sift-unfolded``). Readings of what the
+paper leaves open: ``edge_threshold``, ``sigma``, ``mask_annulus``, ``ratio``,
+``horizon_tolerance_px``, ``max_triples`` and the root of eq. 3 (see the solver).
 
 Fewer than 3 landmarks left, or no triple with a real solution, gives
-:meth:`HomingEstimate.none` with the stage counts in its diagnostics.
+:meth:`HomingEstimate.none` with the stage counts in its diagnostics; the stage counts are in
+every estimate's diagnostics.
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ from numpy.typing import NDArray
 from homebench.errors import ConfigError
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
 from homebench.methods.base import HomingEstimate, ImageKind, View
+from homebench.methods.params import check_choices, documented, param
 from homebench.methods.registry import register
 from homebench.methods.sift_elimination import half_plane_constraint, horizon_constraint
 from homebench.methods.sift_matching import match_descriptors
@@ -87,36 +94,88 @@ def panorama_sides(geometry: PanoramaGeometry, v: NDArray, tolerance: float) -> 
 
 
 @register
+@documented
 @dataclass(frozen=True)
 class Sift:
-    """SIFT-landmark homing on raw catadioptric images; defaults: seed 001, Table 1.
-
-    ``horizon_tolerance_px`` (1 px): the band around the horizon circle that counts as "on" it
-    (eq. 8's ``r_L = r_H``), about the localisation precision of a SIFT keypoint at the first
-    octaves. ``max_triples`` (2000): the estimate then moves by at most 2-4 deg over ten seeds
-    on rendered views 0.3-1.2 m from the goal (1-2 deg with 8000 triples), below the method's
-    own error there (median 3-4 deg), and the triple stage costs about 1 ms of ``home``.
-    """
+    """SIFT-landmark homing on raw catadioptric images; defaults: seed 001, Table 1."""
 
     name: ClassVar[str] = "sift"
     image_kind: ClassVar[ImageKind] = "raw"
 
-    n_octave_layers: int = 5
-    contrast_threshold: float = 0.04
-    edge_threshold: float = 10.0
-    sigma: float = 1.6
-    mask_annulus: bool = True
-    ratio: float = 0.8
-    cross_check: bool = False
-    horizon_constraint: bool = True
-    horizon_tolerance_px: float = 1.0
-    half_plane_constraint: bool = True
-    n_references: int = 5
-    vote_threshold: int = 4
-    max_triples: int = 2000
-    seed: int = 0
+    n_octave_layers: int = param(5, "S: scale layers per octave (Table 1; Lowe's 3).")
+    contrast_threshold: float = param(
+        0.04,
+        "T_DoG x S: OpenCV divides it by n_octave_layers, so 0.04 applies Table 1's 0.04 / S "
+        "(grey levels in [0, 1]).",
+    )
+    edge_threshold: float = param(
+        10.0,
+        "Lowe's edge-response threshold r.",
+        reading="not stated; the paper changes only S and T_DoG from Lowe's (2004) settings, "
+        "so Lowe's r = 10 stays",
+    )
+    sigma: float = param(
+        1.6,
+        "Blur of the first octave's base image (pixels).",
+        reading="not stated; Lowe's (2004) 1.6, as for edge_threshold",
+    )
+    mask_annulus: bool = param(
+        True,
+        "Detect only inside the mirror's annulus.",
+        reading="the paper detects on the raw image without saying where; landmarks are scene "
+        "points, which appear only inside the annulus (outside are the rim and the camera, "
+        "which turn with the robot and would match at unchanged bearings)",
+    )
+    ratio: float = param(
+        0.8,
+        "Lowe's ratio test: nearest / second-nearest descriptor distance must be below it.",
+        reading="the paper names no matching rule; Lowe's (2004) ratio test at his 0.8",
+    )
+    cross_check: bool = param(
+        False,
+        "Keep a match only if the goal landmark is also its current landmark's nearest.",
+        paper="matches each goal landmark to its nearest current one, without a mutual check",
+    )
+    distinct_matches: bool = param(
+        False,
+        "Count a repeated (goal position, current position) match once.",
+        paper="counts every match; SIFT gives one keypoint per dominant orientation (Lowe "
+        "2004), so a place can match twice and then votes twice in constraint 2 and eq. 5",
+    )
+    horizon_constraint: bool = param(
+        True, "Mismatch elimination by constraint 1 (eq. 8); off with the next one: PN."
+    )
+    horizon_tolerance_px: float = param(
+        1.0,
+        "Distance from the horizon circle (pixels; rows for sift-unfolded) that counts as on "
+        "it (eq. 8's gamma_IO = 0).",
+        reading="eq. 8's r_L = r_H never holds exactly for sub-pixel keypoints; read as within "
+        "about a keypoint's localisation precision at the first octaves",
+    )
+    half_plane_constraint: bool = param(
+        True, "Mismatch elimination by constraint 2 (eq. 9-10, after constraint 1)."
+    )
+    n_references: int = param(5, "nR: reference landmarks per tested pair (Table 1).")
+    vote_threshold: int = param(4, "VTH: votes a pair needs to be kept (Table 1).")
+    ahead_filter: bool = param(
+        False,
+        "Discard triples whose solution puts a landmark behind the robot on its ray.",
+        paper="keeps every triple eq. 3 solves; true bearings never put a landmark behind, "
+        "noisy and mismatched ones often do, so the filter removes many wrong triples",
+    )
+    max_triples: int | None = param(
+        2000,
+        "Landmark triples solved per pair: all of them when there are at most this many (or "
+        "with null), else this many drawn uniformly, seeded by seed and the bearings.",
+        reading="'a number of parameter sets ... can be obtained' (section 2): read as all "
+        "triples, estimated by a uniform sample when there are more than max_triples (the "
+        "estimate then moves by 2-4 deg over seeds at 0.3-1.2 m, below the method's own error; "
+        "null solves all C(n, 3), whose cost grows as n**3)",
+    )
+    seed: int = param(0, "Seed of the triple sample (together with a checksum of the bearings).")
 
     def __post_init__(self) -> None:
+        check_choices(self)
         checks = {
             "n_octave_layers must be >= 1": self.n_octave_layers >= 1,
             "contrast_threshold must be > 0": self.contrast_threshold > 0,
@@ -128,7 +187,7 @@ class Sift:
             "vote_threshold must be in [0, n_references]": (
                 0 <= self.vote_threshold <= self.n_references
             ),
-            "max_triples must be >= 1": self.max_triples >= 1,
+            "max_triples must be >= 1 or null": self.max_triples is None or self.max_triples >= 1,
             "seed must be >= 0": self.seed >= 0,
         }
         failed = [message for message, ok in checks.items() if not ok]
@@ -174,7 +233,8 @@ class Sift:
         ig, ic = match_descriptors(
             goal.descriptors, current.descriptors, self.ratio, self.cross_check
         )
-        ig, ic = _distinct_pairs(goal.positions[ig], current.positions[ic], ig, ic)
+        if self.distinct_matches:
+            ig, ic = _distinct_pairs(goal.positions[ig], current.positions[ic], ig, ic)
         counts = {"n_matches": len(ig)}
         if self.horizon_constraint:
             keep = horizon_constraint(goal.sides[ig], current.sides[ic])
@@ -195,7 +255,11 @@ class Sift:
         if n < 3:
             return HomingEstimate.none(n, reason="fewer than 3 landmarks", **counts)
         movement = estimate_movement(
-            goal.azimuths[ig], current.azimuths[ic], self.max_triples, self.seed
+            goal.azimuths[ig],
+            current.azimuths[ic],
+            self.max_triples,
+            self.seed,
+            ahead_filter=self.ahead_filter,
         )
         if movement is None:
             return HomingEstimate.none(n, reason="no triple with a real solution", **counts)
@@ -208,6 +272,7 @@ class Sift:
                 **counts,
                 "n_triples": movement.n_triples,
                 "n_valid_triples": movement.n_valid,
+                "n_direction_triples": movement.n_direction,
                 "alpha": movement.alpha,
                 "psi": movement.psi,
                 "rho_median": movement.rho_median,
@@ -216,6 +281,7 @@ class Sift:
 
 
 @register
+@documented
 @dataclass(frozen=True)
 class SiftUnfolded(Sift):
     """The same method on the unfolded panorama (an option; the paper uses the raw image).

@@ -7,24 +7,28 @@ all landmarks lie at one distance ``r`` from H, ``rho = d / r``. A landmark seen
 ``sin(psi + theta' - theta) = rho * sin(psi + theta' - alpha)`` (eq. 2). Solved for ``theta``
 (the branch on the ray's forward side, valid for rho < 1):
 ``theta = phi - arcsin(rho * sin(phi - alpha))`` with ``phi = theta' + psi``. So the goal signal
-warped by (rho, alpha) and rotated by psi predicts the current signal; the search minimises the
-sum of squared differences and the home direction is ``beta = alpha - psi + pi`` (eq. 4), in the
+warped by (rho, alpha) and rotated by psi predicts the current signal; the search minimises their
+distance and the home direction is ``beta = alpha - psi + pi`` (eq. 4), in the
 current robot frame.
 
 Speed: the warp depends on (rho, alpha) only through ``phi``, so the goal signal is warped once
 per (rho, alpha) (precomputed index tables) and psi becomes a circular shift: all shifts are one
 matrix product with the circulant of the current signal.
 
-``rho = 0`` (no displacement found) carries no direction: the estimate then has ``angle=None``
-(counted as "no estimate") but keeps the rotation. A texture-less signal gives
-:meth:`HomingEstimate.none`.
+Readings and options (see the parameters): the 1-D signal is the mean of a band of rows around
+the horizon, one column per psi step; seed 001 does not say how W compares images, homebench
+reads the sum of squared differences (``distance``); no normalisation of the signal
+(``normalize``, an option). ``rho = 0`` (no displacement found) carries no direction: the warp
+is then the identity for every alpha, which all tie, so eq. 4 would turn the search order into
+a direction; the estimate has ``angle=None`` (counted as "no estimate") but keeps the rotation.
+A texture-less signal gives :meth:`HomingEstimate.none`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import ClassVar
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,12 +37,16 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, wrap_angle
 from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import HomingEstimate, ImageKind, View
+from homebench.methods.params import check_choices, documented, param
 from homebench.methods.registry import register
 
 FloatArray = NDArray[np.float64]
 
 #: Relative spread below which a signal counts as texture-less.
 FLAT_TOLERANCE = 1e-9
+
+Normalize = Literal["none", "equalize", "zscore"]
+SignalDistance = Literal["ssd", "dot"]
 
 
 def is_flat(signal: FloatArray) -> bool:
@@ -67,29 +75,64 @@ def warp_tables(
     return (low % n_columns).reshape(shape), frac.reshape(shape)
 
 
+def normalize_signal(signal: FloatArray, mode: Normalize) -> FloatArray:
+    """``signal`` (n,) as the method compares it: unchanged (``none``), histogram-equalised
+    (``equalize``: each value's rank, the fraction of values <= it, times 255; unchanged by any
+    increasing grey-level mapping), or zero mean and unit standard deviation (``zscore``:
+    unchanged by any gain and offset; a flat signal gives zeros)."""
+    if mode == "equalize":
+        ranks = np.searchsorted(np.sort(signal), signal, side="right")
+        return 255.0 * ranks / signal.size
+    if mode == "zscore":
+        centred = signal - signal.mean()
+        spread = centred.std()
+        return centred / spread if spread > 0 else np.zeros_like(centred)
+    return signal
+
+
 @register
+@documented
 @dataclass(frozen=True)
 class Warping:
-    """1-D warping; defaults: seed 001 Table 1 (rho in [0, 0.95] in 20 steps, alpha/psi 5 deg).
-
-    ``n_columns`` = 72 puts one column per psi step (5 deg) and averages four columns of a
-    288-column panorama, the low-pass Franz et al. apply before warping. The 1-D signal is the
-    mean of the rows within +-``band_half_width_deg`` (5 deg) of the horizon: enough rows to
-    average out noise and a slight tilt, narrow enough to stay where the landmarks' equal-distance
-    model holds best (walls and objects at camera height rather than floor and ceiling).
-    """
+    """1-D warping; defaults: seed 001 Table 1 (rho in [0, 0.95] in 20 steps, alpha/psi 5 deg)."""
 
     name: ClassVar[str] = "warping"
     image_kind: ClassVar[ImageKind] = "unfolded"
 
-    n_rho: int = 20
-    rho_max: float = 0.95
-    n_alpha: int = 72
-    n_psi: int = 72
-    n_columns: int = 72
-    band_half_width_deg: float = 5.0
+    n_rho: int = param(20, "Search steps of rho = d / r from 0 to rho_max (Table 1).")
+    rho_max: float = param(0.95, "Largest rho searched (Table 1).")
+    n_alpha: int = param(72, "Search steps of alpha over a full turn (Table 1: 5 deg).")
+    n_psi: int = param(72, "Search steps of psi over a full turn (Table 1: 5 deg).")
+    n_columns: int = param(
+        72,
+        "Columns of the 1-D horizon signal (a multiple of n_psi).",
+        reading="not stated; one column per psi step, which on a 288-column panorama averages "
+        "four columns (a low-pass before warping)",
+    )
+    band_half_width_deg: float = param(
+        5.0,
+        "The signal is the mean of the rows within this many degrees of the horizon.",
+        reading="not stated; enough rows to average out noise and a slight tilt, few enough to "
+        "stay at camera height where the equal-distance model holds best",
+    )
+    normalize: Normalize = param(
+        "none",
+        "Grey-level normalisation of each signal before comparing: none, equalize (rank "
+        "histogram equalisation) or zscore (zero mean, unit deviation).",
+        paper="describes no normalisation: grey levels as they are, so a global brightness "
+        "change between the views shifts every distance (seed 001: W collapses under day)",
+    )
+    distance: SignalDistance = param(
+        "ssd",
+        "How the warped goal signal is compared with the current one: ssd (sum of squared "
+        "differences, minimised) or dot (scalar product, maximised).",
+        reading="seed 001 does not say; the sum of squared differences of the warping baselines "
+        "on the Bielefeld databases (Möller's and Vardy's implementations); dot is the scalar "
+        "product Möller's early reimplementation of Franz et al. (1998) used by default",
+    )
 
     def __post_init__(self) -> None:
+        check_choices(self)
         if self.n_rho < 2 or not 0.0 < self.rho_max < 1.0:
             raise ConfigError("warping: need n_rho >= 2 and 0 < rho_max < 1")
         if self.n_alpha < 1 or self.n_psi < 1 or self.n_columns % self.n_psi:
@@ -103,13 +146,17 @@ class Warping:
         return tuple(np.linspace(0.0, self.rho_max, self.n_rho).tolist())
 
     def describe(self, view: View) -> FloatArray:
-        """The 1-D horizon signal (n_columns,), grey levels, canonical column order."""
-        return horizon_signal(
+        """The 1-D horizon signal (n_columns,), canonical column order, normalised (grey levels
+        for ``normalize="none"``)."""
+        signal = horizon_signal(
             view.image, view.geometry, np.radians(self.band_half_width_deg), self.n_columns
         )
+        return normalize_signal(signal, self.normalize)
 
     def costs(self, current: FloatArray, goal: FloatArray) -> FloatArray:
-        """Sum of squared differences for every (rho, alpha, psi): shape (n_rho, n_alpha, n_psi)."""
+        """Distance of every (rho, alpha, psi), lower is better: shape (n_rho, n_alpha, n_psi).
+
+        ``ssd``: sum of squared differences; ``dot``: minus the scalar product."""
         n = self.n_columns
         low, frac = warp_tables(n, self.rho, self.n_alpha)
         warped = (1.0 - frac) * goal[low] + frac * goal[(low + 1) % n]  # (n_rho*n_alpha, n)
@@ -117,8 +164,12 @@ class Warping:
         # circulant[k, p] = current[k - p * step]: predicted current(theta') = warped(theta' + psi)
         circulant = current[(np.arange(n)[:, None] - step * np.arange(self.n_psi)[None, :]) % n]
         cross = warped @ circulant
-        ssd = np.sum(current**2) + np.sum(warped**2, axis=1)[:, None] - 2.0 * cross
-        return np.maximum(ssd, 0.0).reshape(self.n_rho, self.n_alpha, self.n_psi)
+        if self.distance == "dot":
+            cost = -cross
+        else:
+            ssd = np.sum(current**2) + np.sum(warped**2, axis=1)[:, None] - 2.0 * cross
+            cost = np.maximum(ssd, 0.0)
+        return cost.reshape(self.n_rho, self.n_alpha, self.n_psi)
 
     def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
         """Home direction beta = alpha - psi + pi at the best (rho, alpha, psi)."""

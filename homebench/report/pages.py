@@ -7,6 +7,9 @@ from typing import Any
 
 from matplotlib.figure import Figure
 
+from homebench.errors import HomebenchError
+from homebench.methods import registry
+from homebench.methods.params import paper_statement
 from homebench.report.run_data import RunData, RunInfo
 from homebench.report.style import new_figure
 from homebench.report.tables import TableView
@@ -46,9 +49,17 @@ def _rotation_text(rotation: Any) -> str:
 
 
 def _method_text(entry: dict[str, Any]) -> str:
+    """ "label: method, <how it stands to its paper>" (parameters listed when the method is not
+    installed here to tell)."""
     label = entry.get("label") or entry["method"]
-    params = ", ".join(f"{k}={v!r}" for k, v in sorted(entry.get("params", {}).items()))
-    return f"{label}: {entry['method']}" + (f" ({params})" if params else "")
+    params = entry.get("params", {})
+    swept = f"; swept: {', '.join(sorted(entry['grid']))}" if entry.get("grid") else ""
+    try:
+        statement = paper_statement(registry.get(entry["method"]), params)
+    except HomebenchError:
+        listed = ", ".join(f"{k}={v!r}" for k, v in sorted(params.items()))
+        statement = f"parameters {listed}" if listed else "its defaults"
+    return f"{label}: {entry['method']}, {statement}{swept}"
 
 
 def run_lines(run: RunInfo) -> list[str]:

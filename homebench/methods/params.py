@@ -1,0 +1,217 @@
+"""Method parameters that say what they mean and how they stand to the method's paper.
+
+A method's parameters are its dataclass fields. :func:`param` makes such a field and records its
+meaning, and, when it has one, its relation to the paper:
+
+- ``paper=``: the field is a **departure** homebench offers as an opt-in option; the default is
+  the paper's behaviour and the text says what the paper does (and why the option exists).
+- ``reading=``: the paper is ambiguous here (or names no value); the text says which reading
+  homebench implements and why.
+
+A field with neither is the paper's own parameter (or an implementation setting the paper has no
+use for). :func:`parameter_docs` reads any method's fields — third-party methods without metadata
+included — and :func:`method_listing` formats them for ``homebench methods``; :func:`documented`
+appends the same list to the class docstring, so the reasons live in one place.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import textwrap
+import types
+import typing
+from dataclasses import dataclass
+from typing import Any, Literal, get_args, get_origin
+
+from homebench.errors import ConfigError
+
+_KEY = "homebench"
+
+Status = Literal["", "departure", "reading"]
+
+
+@dataclass(frozen=True)
+class ParamInfo:
+    """What a parameter means; ``paper`` (departure) or ``reading`` (ambiguous text), if any."""
+
+    meaning: str
+    paper: str = ""
+    reading: str = ""
+
+
+@dataclass(frozen=True)
+class ParameterDoc:
+    """One parameter as listed: name, type and default as text, meaning, status and its note."""
+
+    name: str
+    type: str
+    default: str
+    meaning: str = ""
+    status: Status = ""
+    note: str = ""
+
+
+def param(default: Any, meaning: str, *, paper: str = "", reading: str = "") -> Any:
+    """A dataclass field with a default and its documentation (see the module docstring)."""
+    if paper and reading:
+        raise ValueError("a parameter is either a departure (paper=) or a reading (reading=)")
+    return dataclasses.field(
+        default=default, metadata={_KEY: ParamInfo(meaning, paper=paper, reading=reading)}
+    )
+
+
+def same_as(owner: type, name: str) -> Any:
+    """A field with the default and documentation of ``owner``'s field ``name`` (a method that
+    exposes another dataclass's parameters as its own)."""
+    source = next(f for f in dataclasses.fields(owner) if f.name == name)
+    return dataclasses.field(default=source.default, metadata=source.metadata)
+
+
+def _type_text(hint: Any) -> str:
+    """Plain text of a type hint: ``one of a | b`` for Literals, ``int | None`` for unions."""
+    if isinstance(hint, str):  # an annotation that did not resolve: its text
+        return hint.strip("'\"")
+    if get_origin(hint) is Literal:
+        return "one of " + " | ".join(str(choice) for choice in get_args(hint))
+    args = get_args(hint)
+    if args and get_origin(hint) in (typing.Union, types.UnionType):
+        return " | ".join("None" if a is type(None) else _type_text(a) for a in args)
+    return getattr(hint, "__name__", str(hint))
+
+
+def _hints(cls: type) -> dict[str, Any]:
+    try:
+        return typing.get_type_hints(cls)
+    except Exception:  # a plugin's annotations may not resolve here: fall back to their text
+        return {}
+
+
+def _default(field: dataclasses.Field[Any]) -> Any:
+    if field.default is not dataclasses.MISSING:
+        return field.default
+    if field.default_factory is not dataclasses.MISSING:
+        return field.default_factory()
+    return dataclasses.MISSING
+
+
+def parameter_docs(cls: type) -> list[ParameterDoc]:
+    """The parameters (init fields) of a method dataclass, documented or not, in field order."""
+    hints = _hints(cls)
+    docs = []
+    for field in dataclasses.fields(cls):
+        if not field.init:
+            continue
+        info = field.metadata.get(_KEY)
+        default = _default(field)
+        shown = "(required)" if default is dataclasses.MISSING else repr(default)
+        kind = _type_text(hints.get(field.name, field.type))
+        if info is None:
+            docs.append(ParameterDoc(field.name, kind, shown))
+            continue
+        status: Status = "departure" if info.paper else "reading" if info.reading else ""
+        docs.append(
+            ParameterDoc(field.name, kind, shown, info.meaning, status, info.paper or info.reading)
+        )
+    return docs
+
+
+#: Width of the wrapped text of ``homebench methods`` and of the generated docstrings.
+WIDTH = 100
+
+
+def _annotation(doc: ParameterDoc) -> str:
+    if doc.status == "departure":
+        return f"[departure, opt-in. Paper: {doc.note}]"
+    if doc.status == "reading":
+        return f"[reading: {doc.note}]"
+    return ""
+
+
+def parameter_lines(cls: type, indent: str = "    ") -> list[str]:
+    """``name = default (type)`` per parameter, then its meaning and annotation, indented and
+    wrapped."""
+    lines = []
+    for doc in parameter_docs(cls):
+        lines.append(f"{indent}{doc.name} = {doc.default} ({doc.type})")
+        for text in (doc.meaning, _annotation(doc)):
+            lines.extend(
+                textwrap.wrap(
+                    text, WIDTH, initial_indent=indent * 2, subsequent_indent=indent * 2 + " "
+                )
+            )
+    return lines
+
+
+def paper_statement(cls: type, params: dict[str, Any]) -> str:
+    """How a method entry with ``params`` stands to its paper, in one sentence: "the paper's
+    defaults", or which parameters differ from them and which departures are switched on.
+
+    ``params`` may hold every parameter (a resolved config) or only the given ones.
+    """
+    changed, departures = [], []
+    for doc, field in zip(parameter_docs(cls), _init_fields(cls), strict=True):
+        if field.name not in params:
+            continue
+        default = _default(field)
+        value = params[field.name]
+        if default is dataclasses.MISSING or _same_value(value, default):
+            continue
+        if doc.status == "departure":
+            departures.append(f"{field.name} = {value!r}")
+        else:
+            changed.append(f"{field.name} = {value!r} (default {default!r})")
+    if not changed and not departures:
+        return "the paper's defaults"
+    parts = []
+    if changed:
+        parts.append("changed: " + ", ".join(changed))
+    if departures:
+        parts.append("departures from the paper switched on: " + ", ".join(departures))
+    return "the paper's defaults except " + "; ".join(parts)
+
+
+def _init_fields(cls: type) -> list[dataclasses.Field[Any]]:
+    return [f for f in dataclasses.fields(cls) if f.init]
+
+
+def _same_value(a: Any, b: Any) -> bool:
+    """Equal as a config would hold them (a tuple default equals a YAML list)."""
+    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
+        return list(a) == list(b)
+    return bool(a == b)
+
+
+def summary(cls: type) -> str:
+    """The first paragraph of a class docstring, on one line, reStructuredText roles and
+    literals as plain text."""
+    text = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
+    return re.sub(r"(?::\w+:)?`+([^`]+)`+", r"\1", text)
+
+
+def method_listing(name: str, cls: type) -> list[str]:
+    """What ``homebench methods`` prints for one method: a header line and its parameters."""
+    kind = getattr(cls, "image_kind", "?")
+    return [f"{name} ({kind} images): {summary(cls)}", *parameter_lines(cls)]
+
+
+def documented(cls: type) -> type:
+    """Class decorator: append the parameter list (from the fields' metadata) to ``__doc__``."""
+    cls.__doc__ = f"{(cls.__doc__ or '').rstrip()}\n\nParameters:\n\n" + "\n".join(
+        parameter_lines(cls)
+    )
+    return cls
+
+
+def check_choices(method: Any) -> None:
+    """ConfigError naming the method and field when a Literal-typed field has another value."""
+    hints = _hints(type(method))
+    for field in dataclasses.fields(method):
+        hint = hints.get(field.name)
+        if field.init and get_origin(hint) is Literal:
+            value = getattr(method, field.name)
+            if value not in get_args(hint):
+                choices = ", ".join(map(str, get_args(hint)))
+                raise ConfigError(
+                    f"{method.name}: {field.name} must be one of {choices}, got {value!r}"
+                )
