@@ -2,26 +2,32 @@
 
 Everything homebench writes goes through :func:`atomic_write` (or :func:`atomic_directory` for a
 folder built as a whole), so an interrupted program never leaves a half-written file under its
-final name.
+final name; what a killed one leaves under a temporary name is removed by the next
+(:mod:`homebench.orphans`). Images are checked by their header before they are decoded
+(:mod:`homebench.image_header`), and only regular files are read (:func:`open_regular`).
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, Any, BinaryIO
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.errors import CorruptImageError, DataError
+from homebench.errors import CorruptImageError, DataError, ImageSizeError
+from homebench.image_header import MAX_IMAGE_PIXELS, ImageHeader, read_header, truncation
+from homebench.orphans import TMP_SUFFIX, lock, locked_folder, sweep_once
 
 #: Fixed PNG settings: the same pixels always give the same bytes (for one libpng / zlib).
 PNG_PARAMS = (
@@ -30,6 +36,47 @@ PNG_PARAMS = (
     cv2.IMWRITE_PNG_STRATEGY,
     cv2.IMWRITE_PNG_STRATEGY_DEFAULT,
 )
+
+
+#: An image file may hold at most this many bytes per pixel of the size its header gives, plus
+#: IMAGE_EXTRA_BYTES (metadata), before it is read whole: an ASCII PPM of 16-bit colour needs
+#: 18 bytes per pixel, compressed formats fewer.
+IMAGE_BYTES_PER_PIXEL = 32
+IMAGE_EXTRA_BYTES = 16 << 20
+
+_FILE_KINDS = {
+    stat.S_ISDIR: "a folder",
+    stat.S_ISFIFO: "a FIFO",
+    stat.S_ISCHR: "a character device",
+    stat.S_ISBLK: "a block device",
+    stat.S_ISSOCK: "a socket",
+}
+
+
+class NotRegularFileError(OSError):
+    """A path that names a folder, FIFO, device or socket where a regular file is needed."""
+
+    def __init__(self, path: Path, mode: int):
+        kind = next((k for test, k in _FILE_KINDS.items() if test(mode)), "a special file")
+        super().__init__(errno.EINVAL, f"not a regular file: {kind}", str(path))
+
+
+def open_regular(path: Path) -> BinaryIO:
+    """Open ``path`` for binary reading if it is a regular file; OSError otherwise.
+
+    The file is opened without blocking (a FIFO without a writer would wait for ever) and its
+    kind checked on the open descriptor (no race with a swapped path), so nothing is ever read
+    from a FIFO, a device such as /dev/zero, or a folder (NotRegularFileError).
+    """
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            raise NotRegularFileError(Path(path), mode)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
 
 
 def _current_umask() -> int:
@@ -60,24 +107,27 @@ def atomic_write(path: Path, mode: str = "wb") -> Iterator[IO]:
 
     On any exception (KeyboardInterrupt included) the temporary file is removed and the
     exception propagates; ``path`` is then untouched. An OS error (disk full, no permission)
-    becomes a DataError naming ``path``. ``mode`` is "wb" or "w" (UTF-8 text).
+    becomes a DataError naming ``path``. ``mode`` is "wb" or "w" (UTF-8 text). The temporary
+    file is locked until it is renamed (see homebench.orphans).
     """
     if mode not in ("wb", "w"):
         raise ValueError(f"mode must be 'wb' or 'w', got {mode!r}")
     path = Path(path)
     try:
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        sweep_once(path.parent)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TMP_SUFFIX, dir=path.parent)
     except OSError as error:
         raise DataError(f"{path}: cannot write ({error.strerror or error})") from error
     tmp = Path(tmp_name)
     try:
+        lock(fd)
         os.chmod(tmp, 0o666 & ~_UMASK)
         text = {} if mode == "wb" else {"encoding": "utf-8", "newline": "\n"}
         with os.fdopen(fd, mode, **text) as f:
             yield f
             f.flush()
             os.fsync(f.fileno())
-        os.replace(tmp, path)
+            os.replace(tmp, path)  # before the file is closed: its lock is held until renamed
     except OSError as error:
         tmp.unlink(missing_ok=True)
         raise DataError(f"{path}: cannot write ({error.strerror or error})") from error
@@ -105,21 +155,26 @@ def atomic_directory(path: Path) -> Iterator[Path]:
 
     On any exception the temporary folder is removed and ``path`` is not created. Raises
     DataError if ``path`` appears meanwhile (another process finished first); the caller
-    decides whether that folder is acceptable.
+    decides whether that folder is acceptable. The temporary folder is locked until it is
+    renamed or removed, so that no other process takes it for an orphan (homebench.orphans).
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent))
-    try:
-        os.chmod(tmp, 0o777 & ~_UMASK)
-        yield tmp
+    sweep_once(path.parent)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=TMP_SUFFIX, dir=path.parent))
+    with locked_folder(tmp):
         try:
-            os.rename(tmp, path)
-        except OSError as error:
-            raise DataError(f"{path}: cannot move the new folder into place ({error})") from error
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+            os.chmod(tmp, 0o777 & ~_UMASK)
+            yield tmp
+            try:
+                os.rename(tmp, path)
+            except OSError as error:
+                raise DataError(
+                    f"{path}: cannot move the new folder into place ({error})"
+                ) from error
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
     _fsync_directory(path.parent)
 
 
@@ -138,26 +193,76 @@ def write_png(path: Path, image: NDArray[np.uint8]) -> None:
     write_bytes_atomic(path, encode_png(image))
 
 
-def read_grey(path: Path) -> NDArray[np.uint8]:
-    """Read an image file as grey levels, shape (height, width), uint8.
+@contextlib.contextmanager
+def _checked_image(
+    path: Path, size: tuple[int, int] | None
+) -> Iterator[tuple[BinaryIO, ImageHeader]]:
+    """The open image file and its header, checked before anything is decoded.
 
-    Colour is converted with OpenCV's BGR -> grey weights whatever the file format, 16-bit
-    images keep their high byte. Raises CorruptImageError naming the file for a missing,
-    unreadable, zero-byte, truncated or non-image file.
+    The file must be a regular, non-empty file in a format whose header gives its size (see
+    homebench.image_header), of ``size`` (width, height) if given, at most MAX_IMAGE_PIXELS,
+    not far larger than such an image can be, and not visibly cut short. Raises
+    CorruptImageError or ImageSizeError naming the file; an OSError while the caller reads
+    becomes a CorruptImageError too.
     """
     path = Path(path)
     try:
-        data = np.fromfile(path, dtype=np.uint8)
+        with open_regular(path) as f:
+            n_bytes = os.fstat(f.fileno()).st_size
+            if n_bytes == 0:
+                raise CorruptImageError(path, "is empty (zero bytes)")
+            header = read_header(f, path)
+            width, height = header.width, header.height
+            if size is not None and (width, height) != tuple(size):
+                raise ImageSizeError(path, (size[0], size[1]), (width, height))
+            if width * height > MAX_IMAGE_PIXELS:
+                raise CorruptImageError(
+                    path, f"is {width}x{height}, more than the {MAX_IMAGE_PIXELS:,} pixels allowed"
+                )
+            if n_bytes > IMAGE_BYTES_PER_PIXEL * width * height + IMAGE_EXTRA_BYTES:
+                raise CorruptImageError(
+                    path, f"is {n_bytes:,} bytes, too large for a {width}x{height} image"
+                )
+            problem = truncation(f, header, n_bytes)
+            if problem is not None:
+                raise CorruptImageError(path, problem)
+            f.seek(0)
+            yield f, header
     except OSError as error:
         raise CorruptImageError(path, f"cannot be read ({error.strerror or error})") from error
-    if data.size == 0:
-        raise CorruptImageError(path, "is empty (zero bytes)")
+
+
+def check_image(path: Path, size: tuple[int, int] | None = None) -> ImageHeader:
+    """Check an image file without decoding it (see :func:`read_grey`); return its header."""
+    with _checked_image(path, size) as (_, header):
+        return header
+
+
+def read_grey(path: Path, size: tuple[int, int] | None = None) -> NDArray[np.uint8]:
+    """Read an image file as grey levels, shape (height, width), uint8.
+
+    The header is read first: an image whose size is not ``size`` (width, height) raises
+    ImageSizeError before anything is decoded, and so does a format whose size cannot be read
+    from its header (only PNG, PNM and JPEG are read). Colour is converted with OpenCV's BGR ->
+    grey weights whatever the file format, 16-bit images keep their high byte. Raises
+    CorruptImageError naming the file for a missing, unreadable, zero-byte, truncated or
+    non-image file.
+    """
+    path = Path(path)
+    with _checked_image(path, size) as (f, header):
+        data = np.frombuffer(f.read(), dtype=np.uint8)
     try:
         image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
     except cv2.error as error:
         raise CorruptImageError(path) from error
     if image is None or image.size == 0:
         raise CorruptImageError(path, "cannot be decoded as an image (truncated or not an image)")
+    if (image.shape[1], image.shape[0]) != (header.width, header.height):
+        raise CorruptImageError(
+            path,
+            f"decodes to {image.shape[1]}x{image.shape[0]} but its header says "
+            f"{header.width}x{header.height}",
+        )
     return _to_grey_uint8(image, path)
 
 

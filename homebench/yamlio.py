@@ -1,89 +1,281 @@
 """YAML files in, validated pydantic models out, with errors naming the file, line and key path.
 
-The one loader of every YAML file homebench reads (run configs, manifests): syntax errors give
-line and column, duplicate keys are errors (PyYAML would silently keep the last), and each
-validation problem is reported as ``file:line: key.path: message``.
+The one loader of every YAML file homebench reads (run configs, route configs, manifests): syntax
+errors give line and column, duplicate keys are errors (PyYAML would silently keep the last), and
+each validation problem is reported as ``file:line: key.path: message``.
+
+YAML is input from anyone (a shared config, a downloaded manifest), so reading it is bounded:
+only regular files of at most MAX_YAML_BYTES are read (a FIFO or /dev/zero is refused before a
+byte is read), nesting stops at MAX_YAML_DEPTH, and a document may hold at most MAX_YAML_NODES
+nodes once its aliases are expanded (an "alias bomb" of nested anchors is refused after one
+pass over its distinct nodes). Every failure is a ConfigError of one line.
 """
 
 from __future__ import annotations
 
+import copy
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, TypeVar
 
 import yaml
 from pydantic import BaseModel, ValidationError
+from yaml.composer import Composer
+from yaml.constructor import SafeConstructor
+from yaml.resolver import Resolver
 
 from homebench.errors import ConfigError
+from homebench.fileio import open_regular
+
+try:  # libyaml scans and parses about 50 times faster than PyYAML's own Python code
+    from yaml.cyaml import CParser as _EventParser
+except ImportError:  # a PyYAML built without libyaml: the same events, slower
+    from yaml.parser import Parser
+    from yaml.reader import Reader
+    from yaml.scanner import Scanner
+
+    class _EventParser(Reader, Scanner, Parser):  # type: ignore[no-redef]
+        def __init__(self, text: str):
+            Reader.__init__(self, text)
+            Scanner.__init__(self)
+            Parser.__init__(self)
+
 
 M = TypeVar("M", bound=BaseModel)
 
+#: Largest YAML file read. Shipped configs are ~2 KB and manifests ~30 KB; a manifest with the
+#: sha256 of 20,000 images is ~1.7 MB. Parsing 4 MiB takes a few seconds at most.
+MAX_YAML_BYTES = 4 << 20
+#: Deepest nesting of mappings and lists (configs and manifests nest about 6 deep).
+MAX_YAML_DEPTH = 64
+#: Most nodes of a document, counted with its aliases expanded (a 4 MiB manifest of sums holds
+#: ~110,000): the work of every later step (validation, the checks below) is bounded by it.
+MAX_YAML_NODES = 200_000
+#: Most validation errors listed; the others are counted in one last line.
+MAX_REPORTED_ERRORS = 20
+
 
 def _read(path: Path, what: str) -> str:
+    """The text of a regular file of at most MAX_YAML_BYTES; ConfigError otherwise (nothing is
+    read from a FIFO, a device or a folder: see fileio.open_regular)."""
     try:
-        return Path(path).read_text(encoding="utf-8")
+        with open_regular(path) as f:
+            data = f.read(MAX_YAML_BYTES + 1)
     except FileNotFoundError:
         raise ConfigError(f"{path}: no such {what}") from None
     except OSError as error:
         raise ConfigError(f"{path}: cannot read the {what} ({error.strerror or error})") from None
+    if len(data) > MAX_YAML_BYTES:
+        raise ConfigError(f"{path}: the {what} is larger than the {_size(MAX_YAML_BYTES)} limit")
+    try:
+        return data.decode("utf-8")
     except UnicodeDecodeError as error:
         raise ConfigError(f"{path}: the {what} is not UTF-8 text ({error})") from None
 
 
-def load_model(model: type[M], path: Path, what: str = "file") -> M:
-    """Read a YAML file and validate it against ``model`` (``what`` names it in errors)."""
-    return parse_model(model, _read(path, what), str(path), what)
+def _size(n_bytes: int) -> str:
+    return f"{n_bytes / (1 << 20):g} MiB"
 
 
-def load_yaml_mapping(path: Path, what: str = "file") -> dict[str, Any]:
+def load_model(model: type[M], path: Path, what: str = "file", overrides: Sequence[str] = ()) -> M:
+    """Read a YAML file, apply ``overrides`` (see :func:`apply_overrides`) and validate it
+    against ``model`` (``what`` names it in errors)."""
+    return parse_model(model, _read(path, what), str(path), what, overrides)
+
+
+def load_yaml_mapping(
+    path: Path, what: str = "file", overrides: Sequence[str] = ()
+) -> dict[str, Any]:
     """Read a YAML file that must hold a mapping (not validated against a model)."""
-    return _parse_mapping(_read(path, what), str(path), what)[0]
+    data, _ = _parse_mapping(_read(path, what), str(path), what)
+    return apply_overrides(data, overrides, str(path))
+
+
+def apply_overrides(data: dict[str, Any], overrides: Sequence[str], origin: str) -> dict[str, Any]:
+    """``data`` with each ``key.path=value`` of ``overrides`` set (a new mapping; ``data`` is
+    not changed). The key path names mapping keys and list indices (``methods.0.params.ratio``);
+    missing mapping keys are created; the value is YAML (``0.7``, ``all``, ``[1, 2]``), read
+    with the same limits as a file. ConfigError naming the override when it cannot be set."""
+    data = copy.deepcopy(data)
+    for override in overrides:
+        key, sep, text = override.partition("=")
+        parts = key.strip().split(".")
+        if not sep or not all(parts):
+            raise ConfigError(f"override {override!r}: expected key.path=value")
+        try:
+            _, value = _load(text, f"override {key}", "value")
+        except yaml.YAMLError as error:
+            raise ConfigError(f"override {override!r}: {_one_line(error)}") from None
+        node: Any = data
+        for depth, part in enumerate(parts):
+            last = depth == len(parts) - 1
+            where = ".".join(parts[: depth + 1])
+            if isinstance(node, dict):
+                if last:
+                    node[part] = value
+                else:
+                    node = node.setdefault(part, {})
+            elif isinstance(node, list) and part.isdigit() and int(part) < len(node):
+                if last:
+                    node[int(part)] = value
+                else:
+                    node = node[int(part)]
+            else:
+                raise ConfigError(
+                    f"{origin}: override {override!r}: {where} is not a key or index of the config"
+                )
+    return data
 
 
 def _parse_mapping(text: str, origin: str, what: str) -> tuple[dict[str, Any], yaml.Node]:
     """The YAML mapping in ``text`` and its node (for line numbers); ConfigError otherwise."""
-    loader = yaml.SafeLoader(text)
+    if len(text) > MAX_YAML_BYTES:
+        raise ConfigError(f"{origin}: the {what} is larger than the {_size(MAX_YAML_BYTES)} limit")
     try:
-        node = loader.get_single_node()
-        if node is None:
-            raise ConfigError(f"{origin}: the {what} is empty")
-        _check_duplicate_keys(node, origin)
-        data = loader.construct_document(node)
+        node, data = _load(text, origin, what)
     except yaml.MarkedYAMLError as error:
-        mark = error.problem_mark or error.context_mark
-        where = f"{origin}:{mark.line + 1}:{mark.column + 1}" if mark else origin
-        raise ConfigError(f"{where}: YAML syntax error: {error.problem or error}") from None
+        where = _where(origin, error.problem_mark or error.context_mark)
+        problem = error.problem or error.context or error
+        raise ConfigError(f"{where}: YAML syntax error: {_one_line(problem)}") from None
     except yaml.YAMLError as error:
-        raise ConfigError(f"{origin}: YAML error: {error}") from None
-    finally:
-        loader.dispose()
+        raise ConfigError(f"{origin}: YAML error: {_one_line(error)}") from None
     if not isinstance(data, dict):
         raise ConfigError(f"{origin}: a {what} is a mapping of keys, got {type(data).__name__}")
     return data, node
 
 
-def parse_model(model: type[M], text: str, origin: str, what: str = "file") -> M:
-    """Validate YAML ``text`` against ``model``; ``origin`` (a file name) starts every error."""
+def _load(text: str, origin: str, what: str) -> tuple[yaml.Node, Any]:
+    """The checked node graph of ``text`` and the Python data it constructs."""
+    loader = _Loader(text, origin)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            raise ConfigError(f"{origin}: the {what} is empty")
+        _check_graph(node, origin)
+        return node, loader.construct_document(node)
+    finally:
+        loader.dispose()
+
+
+def _one_line(message: object) -> str:
+    return " ".join(str(message).split())
+
+
+def _where(origin: str, mark: yaml.Mark | None) -> str:
+    """``file:line:column`` of a mark (1-based), or the file alone."""
+    return f"{origin}:{mark.line + 1}:{mark.column + 1}" if mark else origin
+
+
+class _Loader(Composer, SafeConstructor, Resolver, _EventParser):
+    """A safe loader (PyYAML's Python composer on libyaml's events) that stops at MAX_YAML_DEPTH
+    levels and MAX_YAML_NODES nodes while it composes, and reports values it cannot read (a
+    5000-digit integer, the 45th of a month) at their line."""
+
+    def __init__(self, text: str, origin: str):
+        _EventParser.__init__(self, text)
+        Composer.__init__(self)
+        SafeConstructor.__init__(self)
+        Resolver.__init__(self)
+        self.origin = origin
+        self.depth = 0
+        self.n_nodes = 0
+
+    def compose_node(self, parent: yaml.Node | None, index: Any) -> yaml.Node:
+        self.depth += 1
+        self.n_nodes += 1
+        try:
+            if self.depth > MAX_YAML_DEPTH:
+                where = _where(self.origin, self.peek_event().start_mark)
+                raise ConfigError(f"{where}: YAML nested deeper than {MAX_YAML_DEPTH} levels")
+            if self.n_nodes > MAX_YAML_NODES:
+                where = _where(self.origin, self.peek_event().start_mark)
+                raise ConfigError(f"{where}: YAML with more than {MAX_YAML_NODES:,} nodes")
+            return super().compose_node(parent, index)
+        finally:
+            self.depth -= 1
+
+    def construct_object(self, node: yaml.Node, deep: bool = False) -> Any:
+        try:
+            return super().construct_object(node, deep)
+        except (ValueError, OverflowError) as error:
+            where = _where(self.origin, node.start_mark)
+            raise ConfigError(f"{where}: cannot read the value ({_one_line(error)})") from None
+
+
+def _children(node: yaml.Node) -> list[yaml.Node]:
+    if isinstance(node, yaml.MappingNode):
+        return [n for pair in node.value for n in pair]
+    if isinstance(node, yaml.SequenceNode):
+        return list(node.value)
+    return []
+
+
+def _check_graph(root: yaml.Node, origin: str) -> None:
+    """Check the composed document, visiting each node once (aliased nodes are shared).
+
+    Mapping keys must be plain values and unique (PyYAML would silently keep the last of two
+    equal keys); no alias may refer to a node it is inside of; expanded, the document must have
+    at most MAX_YAML_NODES nodes and MAX_YAML_DEPTH levels. Iterative: no recursion limit.
+    """
+    size: dict[int, int] = {}  # id -> nodes of the expanded subtree (finished nodes)
+    depth: dict[int, int] = {}
+    open_nodes: set[int] = set()  # started, not finished: the current path from the root
+    stack: list[tuple[yaml.Node, bool]] = [(root, False)]
+    while stack:
+        node, finished = stack.pop()
+        key = id(node)
+        if finished:
+            children = _children(node)
+            open_nodes.discard(key)
+            size[key] = 1 + sum(size[id(c)] for c in children)
+            depth[key] = 1 + max((depth[id(c)] for c in children), default=0)
+            if size[key] > MAX_YAML_NODES:
+                raise ConfigError(
+                    f"{_where(origin, node.start_mark)}: the YAML expands to more than "
+                    f"{MAX_YAML_NODES:,} nodes through its aliases"
+                )
+            if depth[key] > MAX_YAML_DEPTH:
+                raise ConfigError(
+                    f"{_where(origin, node.start_mark)}: YAML nested deeper than "
+                    f"{MAX_YAML_DEPTH} levels (through its aliases)"
+                )
+        elif key in open_nodes:
+            raise ConfigError(f"{_where(origin, node.start_mark)}: a recursive alias")
+        elif key not in size:
+            if isinstance(node, yaml.MappingNode):
+                _check_keys(node, origin)
+            open_nodes.add(key)
+            stack.append((node, True))
+            stack.extend((c, False) for c in _children(node))
+
+
+def _check_keys(node: yaml.MappingNode, origin: str) -> None:
+    """The keys of a mapping are plain values (not lists or mappings), each given once."""
+    seen: set[str] = set()
+    for key, _ in node.value:
+        where = _where(origin, key.start_mark)
+        if not isinstance(key, yaml.ScalarNode):
+            raise ConfigError(f"{where}: a key must be a plain value, not a list or mapping")
+        if key.value in seen:
+            raise ConfigError(f"{where}: duplicate key {key.value!r}")
+        seen.add(key.value)
+
+
+def parse_model(
+    model: type[M], text: str, origin: str, what: str = "file", overrides: Sequence[str] = ()
+) -> M:
+    """Validate YAML ``text`` (with ``overrides`` applied) against ``model``; ``origin`` (a
+    file name) starts every error."""
     data, node = _parse_mapping(text, origin, what)
+    data = apply_overrides(data, overrides, origin)
     try:
         return model.model_validate(data)
     except ValidationError as error:
-        lines = [_describe(e, node, origin) for e in error.errors()]
+        errors = error.errors()
+        lines = [_describe(e, node, origin) for e in errors[:MAX_REPORTED_ERRORS]]
+        if len(errors) > MAX_REPORTED_ERRORS:
+            lines.append(f"{origin}: and {len(errors) - MAX_REPORTED_ERRORS} more problems")
         raise ConfigError("\n".join(lines)) from None
-
-
-def _check_duplicate_keys(node: yaml.Node, origin: str) -> None:
-    """PyYAML silently keeps the last of two equal keys; a manifest treats that as an error."""
-    if isinstance(node, yaml.MappingNode):
-        seen: set[str] = set()
-        for key, value in node.value:
-            if key.value in seen:
-                where = f"{origin}:{key.start_mark.line + 1}:{key.start_mark.column + 1}"
-                raise ConfigError(f"{where}: duplicate key {key.value!r}")
-            seen.add(key.value)
-            _check_duplicate_keys(value, origin)
-    elif isinstance(node, yaml.SequenceNode):
-        for item in node.value:
-            _check_duplicate_keys(item, origin)
 
 
 def _describe(error: dict[str, Any], root: yaml.Node, origin: str) -> str:

@@ -29,7 +29,7 @@ from homebench.data.generate import (
 )
 from homebench.data.manifest import Manifest, load_manifest
 from homebench.data.synth.spec import VARIANTS, WorldSpec
-from homebench.errors import ConfigError, DataError, MissingImagesError, UnknownDatabaseError
+from homebench.errors import ConfigError, DataError, UnknownDatabaseError
 
 #: The manifests shipped with the repository (the package is installed editable from it).
 SHIPPED_MANIFESTS = Path(homebench.__file__).resolve().parent.parent / "data_manifests"
@@ -200,7 +200,7 @@ def _is_present(manifest: Manifest, root: Path) -> bool:
         return is_generated(root, manifest.generator.spec)
     try:
         GridDatabase(manifest, root).check_layout()
-    except MissingImagesError:
+    except DataError:  # images missing, or a folder that cannot be opened
         return False
     return True
 

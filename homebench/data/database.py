@@ -1,12 +1,14 @@
 """A grid database on disk: a manifest plus the folder its file paths are relative to.
 
-Images are read on demand, one file per call, and checked against the manifest's size; every
-error names the file or the grid positions it is about.
+Images are read on demand, one file per call, and checked against the manifest's size (from the
+file's header, before decoding); every error names the file or the grid positions it is about.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import stat
 from pathlib import Path
 from typing import Any
 
@@ -14,8 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.data.manifest import Manifest
-from homebench.errors import DataError, ImageSizeError, MissingImagesError
-from homebench.fileio import read_grey
+from homebench.errors import DataError, MissingImagesError
+from homebench.fileio import check_image, read_grey
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
 from homebench.methods.base import ImageKind, View
 
@@ -75,12 +77,7 @@ class GridDatabase:
         path = self.path(i, j, kind)
         if not path.is_file():
             raise MissingImagesError(path.parent, [(i, j)])
-        image = read_grey(path)
-        expected = self.manifest.section(kind).size
-        found = (image.shape[1], image.shape[0])
-        if found != tuple(expected):
-            raise ImageSizeError(path, tuple(expected), found)
-        return image
+        return read_grey(path, self.manifest.section(kind).size)
 
     def view(self, i: int, j: int, kind: str) -> View:
         """The image at (i, j) with its camera model."""
@@ -91,12 +88,36 @@ class GridDatabase:
         return [(i, j) for i, j in self.grid.indices() if not self.path(i, j, kind).is_file()]
 
     def check_layout(self, kinds: tuple[str, ...] | None = None) -> None:
-        """Raise MissingImagesError (naming the positions) if any image of ``kinds`` is absent."""
+        """Raise MissingImagesError (naming the positions) if any image of ``kinds`` is absent,
+        DataError if their folder cannot be opened (a symbolic link loop, a file)."""
         for kind in kinds or self.kinds:
             missing = self.missing(kind)
             if missing:
                 folder = self.root / self.manifest.section(kind).folder
-                raise MissingImagesError(folder.resolve(), missing)
+                self._check_folder(folder, kind)
+                raise MissingImagesError(Path(os.path.abspath(folder)), missing)
+
+    def _check_folder(self, folder: Path, kind: str) -> None:
+        """DataError if ``folder`` exists but is no folder that can be opened."""
+        what = f"the {kind} image folder of database {self.name!r}"
+        try:
+            mode = os.stat(folder).st_mode
+        except FileNotFoundError:
+            return  # no folder: every image is missing
+        except OSError as error:
+            raise DataError(f"{folder}: cannot open {what} ({error.strerror or error})") from None
+        if not stat.S_ISDIR(mode):
+            raise DataError(f"{folder}: {what} is not a folder")
+
+    def check_images(self, kinds: tuple[str, ...]) -> None:
+        """Check every image of ``kinds`` without decoding it: present, in a known format, of the
+        manifest's size, not visibly cut short (see fileio.check_image). Raises
+        MissingImagesError, CorruptImageError or ImageSizeError naming the file."""
+        self.check_layout(kinds)
+        for kind in kinds:
+            size = self.manifest.section(kind).size
+            for i, j in self.grid.indices():
+                check_image(self.path(i, j, kind), size)
 
     def ground_truth(self) -> dict[str, Any]:
         """The ground truth of a generated set (camera poses and the world's objects)."""
