@@ -11,6 +11,7 @@ from homebench.evaluation.metrics import (
     ahc,
     ahc_by_distance,
     angular_errors,
+    distance_bins,
 )
 from homebench.geometry import Grid
 
@@ -141,6 +142,16 @@ def test_bins_on_a_whole_grid_match_rounded_grid_distance():
     table = ahc_by_distance(np.zeros(away.sum()), d_m[away]).iloc[:-1]
     expected = [np.sum(np.rint(grid_units[away]) == k) for k in range(1, 14)]
     assert list(table["n"]) == expected
+
+
+def test_distance_bins_masks_match_the_table():
+    d = np.array([0.0, 0.3, 0.31, 0.6, 4.1])
+    bins, masks = distance_bins(d)
+    assert masks.shape == (14, 5) and list(bins["bin"])[-1] == "all"
+    assert masks[-1].all()  # "all" holds every pair, those outside every bin included
+    np.testing.assert_array_equal(np.flatnonzero(masks[0]), [1, 2])
+    table = ahc_by_distance(np.zeros(5), d)
+    np.testing.assert_array_equal(table["n"], masks.sum(axis=1))
 
 
 def test_bins_missing_orthogonal_mode():

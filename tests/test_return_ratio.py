@@ -87,6 +87,20 @@ def test_uniform_field_path_length_and_trajectory_in_metres():
     np.testing.assert_allclose(traj[1], np.broadcast_to(GRID.position(9, 6), (12, 2)))
 
 
+def test_outcomes_per_start_match_the_grid_arrays():
+    angles = np.full(GRID.shape, 0.0)
+    angles[6, 2] = np.nan
+    result = return_ratio(HomeField(GRID, (9, 6), angles), starts=[(9, 6), (0, 6), (0, 2)])
+    out = result.outcomes()
+    np.testing.assert_array_equal(out["start_i"], [0, 0, 9])  # row-major, as ``starts``
+    np.testing.assert_array_equal(out["start_j"], [2, 6, 6])
+    np.testing.assert_array_equal(out["steps"], [7, 11, 0])
+    np.testing.assert_array_equal(out["success"], [False, True, True])
+    np.testing.assert_allclose(out["path_length"], [7 * 0.8, 11 * 0.8, 0.0])
+    np.testing.assert_array_equal(out["no_estimate"], [True, False, False])
+    assert {len(v) for v in out.values()} == {3}
+
+
 def test_half_field_along_x():
     goal = (2, 8)
     angles = np.where(II < 5, HomeField.ideal(GRID, goal).angles, 0.0)  # other half: +x, away

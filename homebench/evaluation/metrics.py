@@ -13,12 +13,13 @@ from typing import Literal
 
 import numpy as np
 import pandas as pd
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from homebench.geometry import FloatArray, Grid, angular_error, robot_to_world, world_direction
 
 Missing = Literal["exclude", "orthogonal"]
 AHC_BINS_CM = range(30, 391, 30)
+BoolArray = NDArray[np.bool_]
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,15 +110,23 @@ def ae_summary(ae: ArrayLike) -> dict[str, float | int]:
     }
 
 
+def with_missing(ae: ArrayLike, missing: Missing) -> FloatArray:
+    """AE (radians, any shape) with each missing estimate (NaN) kept as NaN, to be left out
+    of means (``"exclude"``, the paper's reading), or counted as pi/2 (``"orthogonal"``, the
+    expected error of a random guess)."""
+    a = np.asarray(ae, dtype=np.float64)
+    if missing == "orthogonal":
+        return np.where(np.isnan(a), np.pi / 2, a)
+    if missing == "exclude":
+        return a
+    raise ValueError(f"missing must be 'exclude' or 'orthogonal', got {missing!r}")
+
+
 def _mean_ae(ae: FloatArray, missing: Missing) -> float:
     """Mean AE (radians) of a 1-D array with NaN for missing estimates, per ``missing``."""
-    if missing == "orthogonal":
-        ae = np.where(np.isnan(ae), np.pi / 2, ae)
-    elif missing == "exclude":
-        ae = ae[~np.isnan(ae)]
-    else:
-        raise ValueError(f"missing must be 'exclude' or 'orthogonal', got {missing!r}")
-    return float(np.mean(ae)) if ae.size else float("nan")
+    a = with_missing(ae, missing)
+    a = a[~np.isnan(a)]
+    return float(np.mean(a)) if a.size else float("nan")
 
 
 def ahc(ae: ArrayLike, missing: Missing = "exclude") -> float:
@@ -138,47 +147,61 @@ def ahc_by_distance(
 ) -> pd.DataFrame:
     """AHC per distance bin (seed 001, Figure 9), plus a last row ``bin = "all"``.
 
-    ``ae``, ``distance_m``: same shape, radians and metres (current to goal). ``bins_cm``: at
-    least two increasing bin centres in cm. A pair belongs to the bin whose centre is nearest: bin k
-    spans ``[low, high)`` with edges halfway between neighbouring centres, and half the
-    neighbouring step beyond the first and last centre. Distances on a grid of the bins' step
-    (0.3 * k m for 30 cm bins) lie at centres, far from any edge, so floating-point error cannot
-    move them. Pairs outside every bin (distance 0, beyond the last edge) count only in the
-    ``"all"`` row, which covers every pair given.
+    ``ae``, ``distance_m``: same shape, radians and metres (current to goal); the bins are
+    those of :func:`distance_bins`.
 
     Columns: ``bin`` (centre as text, or "all"), ``centre_cm``, ``low_cm``, ``high_cm``, ``n``
     (pairs, with or without estimate), ``n_missing``, ``mean_ae_rad``, ``mean_ae_deg``, ``ahc``
     (mean and AHC as :func:`ahc` with ``missing``; NaN for a bin without pairs).
     """
     a = np.asarray(ae, dtype=np.float64).ravel()
+    if a.size != np.size(distance_m):
+        raise ValueError(f"ae has {a.size} pairs, distance_m {np.size(distance_m)}")
+    bins, masks = distance_bins(distance_m, bins_cm)
+    stats = pd.DataFrame([_bin_stats(a[mask], missing) for mask in masks])
+    return pd.concat([bins, stats], axis=1)
+
+
+def distance_bins(
+    distance_m: ArrayLike, bins_cm: Iterable[float] = AHC_BINS_CM
+) -> tuple[pd.DataFrame, BoolArray]:
+    """The distance bins of the AHC and which pairs fall in each, plus a last bin "all".
+
+    ``distance_m``: shape (n_pairs,) (or any, flattened), metres. ``bins_cm``: at least two
+    increasing bin centres in cm. A pair belongs to the bin whose centre is nearest: bin k spans
+    ``[low, high)`` with edges halfway between neighbouring centres, and half the neighbouring
+    step beyond the first and last centre. Distances on a grid of the bins' step (0.3 * k m for
+    30 cm bins) lie at centres, far from any edge, so floating-point error cannot move them.
+    Pairs outside every bin (distance 0, beyond the last edge) are only in "all", which holds
+    every pair given.
+
+    Returns the bins (columns ``bin``: centre as text or "all", ``centre_cm``, ``low_cm``,
+    ``high_cm``; NaN for "all") and the masks, shape (n_bins + 1, n_pairs), in the same order.
+    """
     d_cm = 100.0 * np.asarray(distance_m, dtype=np.float64).ravel()
-    if a.shape != d_cm.shape:
-        raise ValueError(f"ae has {a.size} pairs, distance_m {d_cm.size}")
     centres = np.asarray(list(bins_cm), dtype=np.float64)
     if centres.size < 2 or np.any(np.diff(centres) <= 0):
         raise ValueError("bins_cm must be at least two increasing bin centres")
     mids = (centres[:-1] + centres[1:]) / 2
     lows = np.concatenate([[1.5 * centres[0] - 0.5 * centres[1]], mids])
     highs = np.concatenate([mids, [1.5 * centres[-1] - 0.5 * centres[-2]]])
+    bins = pd.DataFrame(
+        {
+            "bin": [f"{c:g}" for c in centres] + ["all"],
+            "centre_cm": np.append(centres, np.nan),
+            "low_cm": np.append(lows, np.nan),
+            "high_cm": np.append(highs, np.nan),
+        }
+    )
+    inside = (d_cm >= lows[:, None]) & (d_cm < highs[:, None])
+    return bins, np.vstack([inside, np.ones((1, d_cm.size), dtype=bool)])
 
-    rows = [
-        _bin_row(f"{c:g}", c, lo, hi, a[(d_cm >= lo) & (d_cm < hi)], missing)
-        for c, lo, hi in zip(centres, lows, highs, strict=True)
-    ]
-    rows.append(_bin_row("all", np.nan, np.nan, np.nan, a, missing))
-    return pd.DataFrame(rows)
 
-
-def _bin_row(
-    label: str, centre: float, low: float, high: float, ae: FloatArray, missing: Missing
-) -> dict[str, str | float | int]:
-    """One row of :func:`ahc_by_distance` for the AE values ``ae`` (1-D, NaN = missing)."""
+def _bin_stats(ae: FloatArray, missing: Missing) -> dict[str, float | int]:
+    """The statistics of one bin of :func:`ahc_by_distance` for its AE values (1-D, NaN =
+    missing)."""
     mean = _mean_ae(ae, missing)
     return {
-        "bin": label,
-        "centre_cm": float(centre),
-        "low_cm": float(low),
-        "high_cm": float(high),
         "n": int(ae.size),
         "n_missing": int(np.sum(np.isnan(ae))),
         "mean_ae_rad": mean,

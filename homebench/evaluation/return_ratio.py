@@ -13,10 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from homebench.evaluation.metrics import HomeField
+from homebench.evaluation.metrics import BoolArray, HomeField
 from homebench.geometry import FloatArray, Grid, world_direction
-
-BoolArray = NDArray[np.bool_]
 
 # 8-neighbour offsets (di, dj) by octant k: the world direction k * pi/4 (i along x, j along y).
 _OCTANT_STEPS = np.array([(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)])
@@ -29,9 +27,9 @@ class ReturnRatioResult:
     ``rr``: share of the started trials that succeed. ``success``: False where no trial started.
     ``path_length``: distance travelled in grid units (NaN where no trial started).
     ``no_estimate``: the trial failed on a position without an estimate. ``starts``: the
-    started grid indices, shape (n, 2), in the order of ``trajectories``: world positions in
-    metres after each step, shape (n, n_steps + 1, 2), a finished robot staying put (None
-    unless asked for).
+    started grid indices, shape (n, 2), in the order of ``steps`` (steps taken per start,
+    shape (n,)) and of ``trajectories``: world positions in metres after each step, shape
+    (n, n_steps + 1, 2), a finished robot staying put (None unless asked for).
     """
 
     rr: float
@@ -40,7 +38,22 @@ class ReturnRatioResult:
     path_length: FloatArray
     no_estimate: BoolArray
     starts: NDArray[np.int64]
+    steps: NDArray[np.int64]
     trajectories: FloatArray | None
+
+    def outcomes(self) -> dict[str, NDArray]:
+        """One entry per start, in the order of ``starts``, each of shape (n,): ``start_i``,
+        ``start_j``, ``steps``, ``success``, ``path_length`` (grid units) and
+        ``no_estimate`` (ended on a position without an estimate); a table's columns."""
+        i, j = self.starts[:, 0], self.starts[:, 1]
+        return {
+            "start_i": i,
+            "start_j": j,
+            "steps": self.steps,
+            "success": self.success[i, j],
+            "path_length": self.path_length[i, j],
+            "no_estimate": self.no_estimate[i, j],
+        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -119,6 +132,7 @@ def return_ratio(
         path_length=_to_grid(grid, start_ij, n_steps * rh, np.nan),
         no_estimate=_to_grid(grid, start_ij, no_estimate, False),
         starts=start_ij,
+        steps=n_steps,
         trajectories=np.stack(path, axis=1) if keep_trajectories else None,
     )
 
