@@ -7,7 +7,15 @@ import numpy as np
 import pytest
 
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
-from homebench.imaging.projection import fold, fold_labels, fold_maps, frontmost, unfold
+from homebench.imaging.projection import (
+    fold,
+    fold_labels,
+    fold_maps,
+    frontmost,
+    tangential_prefilter,
+    tangential_widths,
+    unfold,
+)
 
 RAW = CatadioptricGeometry(
     width=400,
@@ -169,3 +177,27 @@ def test_maps_are_cached_and_read_only():
     assert fold_maps(PANO, RAW, 2) is a
     with pytest.raises(ValueError):
         a[0][0, 0] = 1.0
+
+
+def test_tangential_prefilter_stops_aliasing_near_the_inner_radius():
+    """Columns alternating 0 / 200 (a texture finer than the raw image resolves near its
+    inner radius): folded as they are, the inner ring aliases into a pattern; prefiltered,
+    it is the mean grey. Rows whose raw samples span less than a column are untouched, and
+    every row keeps its mean (a box average of a periodic row)."""
+    raw = CatadioptricGeometry(
+        width=300, height=300, centre=(149.5, 149.5), radii=(20.0, 140.0),
+        elevations=(np.radians(-50.0), np.radians(45.0)), direction="cw",
+        zero_angle=np.pi / 2,
+    )  # fmt: skip
+    pano = PanoramaGeometry(1440, 380, np.radians(45.0), np.radians(-50.0))
+    stripes = np.zeros((pano.height, pano.width), np.float32)
+    stripes[:, ::2] = 200.0
+    filtered = tangential_prefilter(stripes, pano, raw, 2)
+    widths = tangential_widths(pano, raw, 2)
+    assert np.array_equal(filtered[widths <= 1], stripes[widths <= 1])
+    assert np.allclose(filtered.mean(axis=1), stripes.mean(axis=1), atol=1e-3)
+    v, u = np.mgrid[0:300, 0:300]
+    ring = np.abs(np.hypot(u - 149.5, v - 149.5) - 30.0) < 3  # raw samples span ~4 columns
+    aliased, clean = fold(stripes, pano, raw, 2)[ring], fold(filtered, pano, raw, 2)[ring]
+    assert aliased.std() > 20.0
+    assert clean.std() < 0.1 * aliased.std() and abs(clean.mean() - 100.0) < 2.0

@@ -7,10 +7,11 @@ import pytest
 
 from homebench.data.synth import textures as tx
 from homebench.data.synth.atlas import LEVELS, Atlas, layout
-from homebench.data.synth.layout import GRID_MARGIN, base_scene
+from homebench.data.synth.layout import GRID_MARGIN
 from homebench.data.synth.raycast import cast
 from homebench.data.synth.scene import Box, Cylinder, Room, Scene
 from homebench.data.synth.spec import WorldSpec
+from homebench.data.synth.styles.posters import build as base_scene
 from homebench.data.synth.world import build_world
 from homebench.geometry import Grid, PanoramaGeometry
 

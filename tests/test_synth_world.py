@@ -156,7 +156,7 @@ def test_shapes_dtypes_and_noise():
     radius = np.hypot(u - world.raw_geometry.centre[0], v - world.raw_geometry.centre[1])
     assert np.all(clean["raw"][(radius > 71) | (radius < 7)] == 0)
     diff = noisy["unfolded"].astype(float) - clean["unfolded"]
-    assert 0.7 < diff.std() < 1.3  # noise_sigma 1
+    assert 0.5 < diff.std() < 4  # shot and read noise (their model: tests/test_camera.py)
 
 
 # ---------------------------------------------------------------- richness
@@ -164,9 +164,11 @@ def test_shapes_dtypes_and_noise():
 
 @pytest.mark.parametrize("ij", [(0, 0), (4, 8), (9, 16), (2, 13)])
 def test_images_are_rich_in_features(ij):
+    """The poster room through the default camera (its blur halves the SIFT keypoints of a
+    sharp render): measured 272-345 keypoints, 237-301 corners."""
     images = render_position(WorldSpec(seed=3), *ij)
     sift = cv2.SIFT_create(nOctaveLayers=5, contrastThreshold=0.04)
-    assert len(sift.detect(images["raw"], None)) >= 300
+    assert len(sift.detect(images["raw"], None)) >= 200
     corners = cv2.goodFeaturesToTrack(
         images["unfolded"], maxCorners=1000, qualityLevel=0.01, minDistance=3
     )

@@ -94,6 +94,53 @@ def unfold(
     return _area_average(out, supersample)
 
 
+@lru_cache(maxsize=8)
+def tangential_widths(
+    pano_geometry: PanoramaGeometry, raw_geometry: CatadioptricGeometry, supersample: int
+) -> NDArray[np.float64]:
+    """Per panorama row, the columns one raw-image sample spans along its circle, (height,).
+
+    A sample 1 / ``supersample`` pixels wide at radius r spans ``1 / (supersample * r)``
+    radians of azimuth; near the inner radius that is many panorama columns.
+    """
+    elevation = pano_geometry.row_to_elevation(np.arange(pano_geometry.height))
+    radius = np.maximum(raw_geometry.elevation_to_radius(elevation), 0.5)
+    return 1.0 / (supersample * radius * pano_geometry.column_step)
+
+
+def tangential_prefilter(
+    panorama: np.ndarray,
+    pano_geometry: PanoramaGeometry,
+    raw_geometry: CatadioptricGeometry,
+    supersample: int = 2,
+) -> np.ndarray:
+    """Average each panorama row over the columns one raw sample spans (a box along the row,
+    wrapping round), so that :func:`fold` does not alias where the raw image compresses many
+    columns into one pixel (near its inner radius). Rows whose span is under one column are
+    unchanged. ``panorama`` (height, width) float; returns float32 of the same shape.
+    """
+    widths = tangential_widths(pano_geometry, raw_geometry, supersample)
+    rows = np.flatnonzero(widths > 1.0)
+    out = np.array(panorama, dtype=np.float32, copy=True)
+    if rows.size == 0:
+        return out
+    h, w = panorama.shape
+    block = np.asarray(panorama, dtype=np.float64)[rows]
+    # cumulative sums over the row tripled (wrap-around), read at fractional column edges
+    tripled = np.concatenate([block, block, block], axis=1)
+    cumulative = np.concatenate([np.zeros((len(rows), 1)), np.cumsum(tripled, axis=1)], axis=1)
+    half = np.minimum(widths[rows], w) / 2.0  # (n,)
+    centre = np.arange(w) + w + 0.5  # column centres in the tripled row
+    grid = np.arange(3 * w + 1, dtype=np.float64)
+
+    def integral(edges: np.ndarray) -> np.ndarray:
+        return np.stack([np.interp(e, grid, c) for e, c in zip(edges, cumulative, strict=True)])
+
+    upper, lower = centre[None, :] + half[:, None], centre[None, :] - half[:, None]
+    out[rows] = ((integral(upper) - integral(lower)) / (2.0 * half[:, None])).astype(np.float32)
+    return out
+
+
 def fold(
     panorama: np.ndarray,
     pano_geometry: PanoramaGeometry,

@@ -188,11 +188,11 @@ def _results_lines(run: RouteRun) -> list[str]:
 def _scene_line(c: RouteConfig) -> str:
     if c.database is not None:
         return f"grid database {c.database}: the robot sees the nearest grid image"
-    room = c.world.room
+    room, camera = c.world.room_extent, c.world.camera
     return (
-        f"world: generated, variant {c.world.variant} (seed {c.world.seed}), room "
-        f"{room.width:g} x {room.depth:g} x {room.height:g} m, panoramas "
-        f"{c.world.unfolded.width} px wide, noise sigma {c.world.noise_sigma:g}"
+        f"world: generated, style {c.world.style}, variant {c.world.variant} (seed "
+        f"{c.world.seed}), room {room.width:g} x {room.depth:g} x {room.height:g} m, panoramas "
+        f"{c.world.unfolded.width} px wide, {camera.exposure} exposure"
     )
 
 

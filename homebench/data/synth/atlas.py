@@ -35,6 +35,11 @@ class Region:
     size: tuple[int, int]
     scale: tuple[float, float]  # texels per metre along u and v
 
+    @property
+    def density(self) -> float:
+        """Texels per metre that decide the mip level: the denser of the two directions."""
+        return max(self.scale)
+
     def coords(self, u: NDArray, v: NDArray) -> tuple[Float32, Float32]:
         """Level-0 atlas coordinates of surface points (u, v) in metres, clamped to the tile."""
         x = np.clip(u * self.scale[0] - 0.5, 0.0, self.size[0] - 1) + self.x0

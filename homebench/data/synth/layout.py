@@ -1,10 +1,11 @@
-"""The seeded room: wall fixtures, floor, ceiling, furniture, and the variants' additions.
+"""Floor of the seeded places: the floor planner, furniture, and the variants' additions.
 
-The base layout draws only from ``default_rng([seed, 0])``; each variant's additions draw from
-their own stream ``default_rng([seed, 1, k])``, so adding a plant never moves a poster.
-Objects stay outside the capture grid's footprint plus :data:`GRID_MARGIN`; the variants'
-objects (plant, chairs) go in or next to the grid but keep :data:`CAMERA_CLEARANCE` metres from
-every camera position.
+Walls and ceiling are :mod:`homebench.data.synth.walls`. Each style
+(:mod:`homebench.data.synth.styles`) draws its base layout only from ``default_rng([seed, 0])``;
+each variant's additions draw from their own stream ``default_rng([seed, 1, k])``, so adding a
+plant never moves a poster. Objects stay outside the capture grid's footprint plus
+:data:`GRID_MARGIN`; the variants' objects (plant, chairs) go in or next to the grid but keep
+:data:`CAMERA_CLEARANCE` metres from every camera position.
 """
 
 from __future__ import annotations
@@ -15,254 +16,154 @@ from dataclasses import dataclass
 import numpy as np
 
 from homebench.data.synth import textures as tx
-from homebench.data.synth.scene import (
-    TEXELS_PER_METRE,
-    Box,
-    Cylinder,
-    LightBar,
-    Prism,
-    Room,
-    Scene,
-    Surface,
-    Window,
-    texture_shape,
-)
+from homebench.data.synth.scene import Box, Cylinder, Prism, Room, Scene, texture_shape
+from homebench.data.synth.walls import ATTEMPTS, Fixture, px
 from homebench.errors import ConfigError
 from homebench.geometry import Grid
 
 GRID_MARGIN = 0.4
 CAMERA_CLEARANCE = 0.08
-_ATTEMPTS = 200
 _VARIANT_STREAM = {"arboreal": 1, "chairs": 2}
-
-
-def _px(metres: float) -> int:
-    return int(round(metres * TEXELS_PER_METRE))
-
-
-@dataclass(frozen=True)
-class _Fixture:
-    """A rectangle on one wall: ``along`` and ``z`` spans in metres."""
-
-    wall: int
-    along: tuple[float, float]
-    z: tuple[float, float]
-
-    def overlaps(self, other: _Fixture, margin: float) -> bool:
-        return (
-            self.wall == other.wall
-            and self.along[0] < other.along[1] + margin
-            and other.along[0] < self.along[1] + margin
-            and self.z[0] < other.z[1] + margin
-            and other.z[0] < self.z[1] + margin
-        )
-
-
-class _WallPlanner:
-    """Places non-overlapping fixtures on the four walls by rejection sampling."""
-
-    def __init__(self, rng: np.random.Generator, room: Room):
-        self.rng, self.room = rng, room
-        self.placed: list[_Fixture] = []
-
-    def place(
-        self, width: float, z: tuple[float, float], walls: tuple[int, ...] = (0, 1, 2, 3)
-    ) -> _Fixture | None:
-        for _ in range(_ATTEMPTS):
-            wall = int(self.rng.choice(walls))
-            length = self.room.wall_length(wall)
-            if width > length - 0.4:
-                continue
-            a0 = float(self.rng.uniform(0.2, length - 0.2 - width))
-            fixture = _Fixture(wall, (a0, a0 + width), z)
-            if not any(fixture.overlaps(f, 0.1) for f in self.placed):
-                self.placed.append(fixture)
-                return fixture
-        return None
-
-
-@dataclass
-class _WallCanvas:
-    """The unrolled wall texture (closed curtains), its open-curtain copy and the glow mask."""
-
-    room: Room
-    closed: tx.Texture
-    opened: tx.Texture
-    glow: tx.Texture
-
-    def rect(self, f: _Fixture) -> tuple[int, int, int, int]:
-        """Pixel rectangle (r0, c0, r1, c1) of a fixture."""
-        u0 = self.room.wall_u(f.wall, f.along[0])
-        return (
-            _px(self.room.height - f.z[1]),
-            _px(u0),
-            _px(self.room.height - f.z[0]),
-            _px(u0 + f.along[1] - f.along[0]),
-        )
-
-    def paint(self, f: _Fixture, make: Callable[[tuple[int, int]], tx.Texture]) -> None:
-        """Paint the same patch on both albedos; NaN texels of the patch keep the wall."""
-        r0, c0, r1, c1 = self.rect(f)
-        patch = make((r1 - r0, c1 - c0))
-        for tex in (self.closed, self.opened):
-            region = tex[r0:r1, c0:c1]
-            np.copyto(region, patch, where=~np.isnan(patch))
-
-
-def _paint_walls(rng: np.random.Generator, room: Room) -> tuple[Surface, list[Window]]:
-    shape = texture_shape(room.perimeter, room.height)
-    base = tx.plain_wall(rng, shape)
-    canvas = _WallCanvas(room, base, base.copy(), np.zeros(shape, np.float32))
-    planner = _WallPlanner(rng, room)
-    top = room.height - 0.25
-
-    windows = []
-    window_wall = int(rng.integers(4))
-    for _ in range(2):
-        f = planner.place(float(rng.uniform(1.2, 1.8)), (0.9, min(2.3, top)), (window_wall,))
-        if f is None:
-            continue
-        windows.append(Window(f.wall, f.along, f.z))
-        r0, c0, r1, c1 = canvas.rect(f)
-        closed, opened, glow = tx.window(rng, (r1 - r0, c1 - c0), _px(0.06))
-        canvas.closed[r0:r1, c0:c1] = closed
-        canvas.opened[r0:r1, c0:c1] = opened
-        canvas.glow[r0:r1, c0:c1] = glow
-        rad = _Fixture(f.wall, (f.along[0] + 0.15, f.along[1] - 0.15), (0.15, 0.7))
-        planner.placed.append(rad)
-        canvas.paint(rad, lambda s: tx.radiator(rng, s))
-
-    skirting = _px(0.08)
-    for tex in (canvas.closed, canvas.opened):
-        tex[-skirting:, :] = 0.25
-        tex[-skirting, :] = 0.45
-    doors = [w for w in range(4) if w != window_wall]
-    for _ in range(int(rng.integers(1, 3))):
-        f = planner.place(0.95, (0.0, min(2.05, top)), tuple(doors))
-        if f is not None:
-            canvas.paint(f, lambda s: tx.door(rng, s))
-    # (width range, z span, painter) of the other fixtures, in placement order
-    plan: list[tuple[tuple[float, float], tuple[float, float], Callable]] = []
-    plan += [
-        ((0.8, 1.6), (0.3, min(2.0, top)), lambda s: tx.bookshelf(rng, s, _px(0.025)))
-        for _ in range(int(rng.integers(1, 4)))
-    ]
-    plan += [((1.2, 2.0), (0.9, min(1.9, top)), lambda s: tx.whiteboard(rng, s))]
-    plan += [
-        ((0.6, 1.2), (1.0, min(1.8, top)), lambda s: tx.notice_board(rng, s))
-        for _ in range(int(rng.integers(1, 3)))
-    ]
-    plan += [((0.3, 0.3), (1.95, min(2.25, top)), lambda s: tx.clock(rng, s[0]))]
-    for _ in range(int(rng.integers(14, 22))):
-        height = float(rng.uniform(0.4, 1.0))
-        centre = float(rng.uniform(1.1, 1.9))
-        z = (centre - height / 2, min(centre + height / 2, top))
-        plan.append(((0.4, 1.0), z, lambda s: tx.poster(rng, s)))
-    for widths, z, painter in plan:
-        f = planner.place(float(rng.uniform(*widths)), z)
-        if f is not None:
-            canvas.paint(f, painter)
-    for wall_index in range(4):  # pipes and trays along the top of every wall
-        length = room.wall_length(wall_index)
-        band = float(rng.uniform(0.12, 0.25))
-        pipe = _Fixture(wall_index, (0.0, length), (room.height - 0.1 - band, room.height - 0.1))
-        canvas.paint(pipe, lambda s: tx.pipes(rng, s))
-    wall = Surface(
-        canvas.closed,
-        (room.perimeter, room.height),
-        room.place_wall,
-        albedo_open=canvas.opened,
-        glow=canvas.glow,
-        glow_kind="window",
-    )
-    return wall, windows
-
-
-def _ceiling(rng: np.random.Generator, room: Room) -> tuple[Surface, list[LightBar]]:
-    shape = texture_shape(room.width, room.depth)
-    albedo = tx.ceiling_tiles(rng, shape, TEXELS_PER_METRE)
-    glow = np.zeros(shape, np.float32)
-    nx, ny = max(1, round(room.width / 2.0)), max(1, round(room.depth / 2.5))
-    bars = []
-    length, half_width = 1.2, _px(0.08)
-    for i in range(nx):
-        for j in range(ny):
-            x, y = room.width * (i + 0.5) / nx, room.depth * (j + 0.5) / ny
-            bars.append(LightBar((x, y), length, np.pi / 2))
-            r0, r1 = _px(room.depth - y - length / 2), _px(room.depth - y + length / 2)
-            c0, c1 = _px(x) - half_width, _px(x) + half_width
-            tx.fill_rect(albedo, r0, c0, r1, c1, 0.9)
-            tx.fill_rect(glow, r0, c0, r1, c1, 1.0)
-            tx.frame(albedo, r0, c0, r1, c1, 3, 0.3)
-            tx.frame(glow, r0, c0, r1, c1, 3, 0.0)
-    surface = Surface(
-        albedo,
-        (room.width, room.depth),
-        room.place_plane(room.height, -1.0),
-        glow=glow,
-        glow_kind="lights",
-    )
-    return surface, bars
 
 
 # --------------------------------------------------------------------------- furniture
 
 
-class _FloorPlanner:
-    """Places objects on the floor: inside the room, off each other, away from the grid."""
+@dataclass(frozen=True)
+class WallSpot:
+    """A box standing with its back to a wall: the wall (0=S, 1=W, 2=N, 3=E), ``along`` (its
+    centre, metres along the wall), its centre (x, y) and the ``angle`` that turns its front
+    (local -y, the first face its side texture unrolls) towards the room."""
+
+    wall: int
+    along: float
+    x: float
+    y: float
+    angle: float
+
+
+class FloorPlanner:
+    """Places objects on the floor: inside the room, off each other, away from the grid.
+
+    Footprints are kept as bounding discs (x, y, radius); ``keep_out`` is the rectangle
+    (x0, y0, x1, y1) no disc may touch.
+    """
 
     def __init__(self, rng: np.random.Generator, room: Room, keep_out: tuple[float, ...]):
         self.rng, self.room, self.keep_out = rng, room, keep_out
         self.discs: list[tuple[float, float, float]] = []
 
     def free(self, x: float, y: float, radius: float) -> bool:
+        """Whether a disc lies inside the room, off the keep-out and off every placed disc."""
         r = self.room
         if not (radius < x < r.width - radius and radius < y < r.depth - radius):
             return False
+        return self.clear(x, y, radius)
+
+    def clear(self, x: float, y: float, radius: float) -> bool:
+        """Whether a disc keeps off the keep-out rectangle and every placed disc."""
         x0, y0, x1, y1 = self.keep_out
         dx, dy = max(x0 - x, 0.0, x - x1), max(y0 - y, 0.0, y - y1)
         if np.hypot(dx, dy) < radius:
             return False
         return all(np.hypot(x - a, y - b) > radius + c for a, b, c in self.discs)
 
-    def spot(self, radius: float, against_wall: bool) -> tuple[float, float, float] | None:
-        """(x, y, angle) for a footprint of bounding ``radius``; walls face the front inward."""
-        for _ in range(_ATTEMPTS):
-            if against_wall:
-                wall = int(self.rng.integers(4))
-                along = float(self.rng.uniform(0, self.room.wall_length(wall)))
-                x, y, nx, ny = (float(a) for a in self.room.wall_xy(self.room.wall_u(wall, along)))
-                depth = float(self.rng.uniform(0.4, 0.6))
-                x, y = x + nx * (depth / 2 + 0.02), y + ny * (depth / 2 + 0.02)
-                angle = float(np.arctan2(nx, -ny))
-            else:
-                x = float(self.rng.uniform(0, self.room.width))
-                y = float(self.rng.uniform(0, self.room.depth))
-                angle = float(self.rng.uniform(0, np.pi))
+    def spot(self, radius: float) -> tuple[float, float, float] | None:
+        """(x, y, angle) anywhere free for a footprint of bounding ``radius`` (for a box with
+        its back to a wall: :meth:`against_wall`)."""
+        for _ in range(ATTEMPTS):
+            x = float(self.rng.uniform(0, self.room.width))
+            y = float(self.rng.uniform(0, self.room.depth))
+            angle = float(self.rng.uniform(0, np.pi))
             if self.free(x, y, radius):
                 self.discs.append((x, y, radius))
                 return x, y, angle
         return None
 
+    def at_wall(
+        self, wall: int, along: float, length: float, depth: float, gap: float = 0.02
+    ) -> WallSpot | None:
+        """Reserve a ``length`` x ``depth`` metre box ``gap`` metres in front of ``wall``,
+        centred ``along`` metres into it, if it fits the wall and is clear; else None."""
+        if not length / 2 + gap <= along <= self.room.wall_length(wall) - length / 2 - gap:
+            return None
+        spot, discs = self._box(wall, along, length, depth, gap)
+        if not all(self.clear(*d) for d in discs):
+            return None
+        self.discs += discs
+        return spot
 
-def _cabinet(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Prism]:
+    def keep_clear(self, f: Fixture, depth: float) -> None:
+        """Reserve the floor ``depth`` metres deep in front of a wall fixture (a door's swing)
+        where it is still free, so that no later object stands there."""
+        _, discs = self._box(f.wall, sum(f.along) / 2, f.along[1] - f.along[0], depth, 0.0)
+        self.discs += [d for d in discs if self.clear(*d)]
+
+    def _box(
+        self, wall: int, along: float, length: float, depth: float, gap: float
+    ) -> tuple[WallSpot, list[tuple[float, float, float]]]:
+        """The spot of a box in front of a wall and the discs that cover its footprint."""
+        x, y, nx, ny = (float(a) for a in self.room.wall_xy(self.room.wall_u(wall, along)))
+        x, y = x + nx * (depth / 2 + gap), y + ny * (depth / 2 + gap)
+        n = int(np.ceil(length / depth))  # n discs along the wall
+        radius = float(np.hypot(length / n, depth)) / 2
+        offsets = (np.arange(n) + 0.5 - n / 2) * length / n
+        discs = [(x - ny * t, y + nx * t, radius) for t in offsets]
+        return WallSpot(wall, along, x, y, float(np.arctan2(nx, -ny))), discs
+
+    def against_wall(
+        self, length: float, depth: float, walls: tuple[int, ...] = (0, 1, 2, 3)
+    ) -> WallSpot | None:
+        """A random clear spot for a ``length`` x ``depth`` box with its back to one of
+        ``walls`` (reserved), or None."""
+        for _ in range(ATTEMPTS):
+            wall = int(self.rng.choice(walls))
+            along = float(self.rng.uniform(0.0, self.room.wall_length(wall)))
+            spot = self.at_wall(wall, along, length, depth)
+            if spot is not None:
+                return spot
+        return None
+
+
+def floor_planner(rng: np.random.Generator, room: Room, grid: Grid) -> FloorPlanner:
+    """A floor planner that keeps objects :data:`GRID_MARGIN` metres off the capture grid."""
+    (gx0, gy0), (gx1, gy1) = grid.position(0, 0), grid.position(*(n - 1 for n in grid.shape))
+    keep_out = (gx0 - GRID_MARGIN, gy0 - GRID_MARGIN, gx1 + GRID_MARGIN, gy1 + GRID_MARGIN)
+    return FloorPlanner(rng, room, keep_out)
+
+
+Maker = Callable[[np.random.Generator, FloorPlanner, int], list[Prism]]
+
+
+def furnish(
+    rng: np.random.Generator, planner: FloorPlanner, makers: list[tuple[Maker, tuple[int, int]]]
+) -> list[Prism]:
+    """Objects from each ``(maker, (lo, hi))``: a random count in [lo, hi) of each, in order."""
+    objects: list[Prism] = []
+    for make, (lo, hi) in makers:
+        for k in range(int(rng.integers(lo, hi))):
+            objects += make(rng, planner, k)
+    return objects
+
+
+def cabinet(rng: np.random.Generator, planner: FloorPlanner, k: int) -> list[Prism]:
     sx, sy = float(rng.uniform(0.6, 1.2)), 0.5
     height = float(rng.uniform(0.8, 2.0))
-    spot = planner.spot(float(np.hypot(sx, sy)) / 2, against_wall=True)
+    spot = planner.against_wall(sx, sy)
     if spot is None:
         return []
-    x, y, angle = spot
+    x, y, angle = spot.x, spot.y, spot.angle
     side_shape = texture_shape(2 * (sx + sy), height)
-    side = tx.cabinet(rng, side_shape, _px(sx))
+    side = tx.cabinet(rng, side_shape, px(sx))
     if rng.random() < 0.4:  # an open shelving unit
-        side[:, : _px(sx)] = tx.bookshelf(rng, (side_shape[0], _px(sx)), _px(0.025))
+        side[:, : px(sx)] = tx.bookshelf(rng, (side_shape[0], px(sx)), px(0.025))
     cap = tx.wood(rng, texture_shape(sx, sy))
     return [Box(f"cabinet_{k}", 0.0, height, side, cap, centre=(x, y), size=(sx, sy), angle=angle)]
 
 
-def _box_stack(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Prism]:
+def box_stack(rng: np.random.Generator, planner: FloorPlanner, k: int) -> list[Prism]:
     size = float(rng.uniform(0.3, 0.6))
-    spot = planner.spot(size * 0.75, against_wall=False)
+    spot = planner.spot(size * 0.75)
     if spot is None:
         return []
     x, y, angle = spot
@@ -289,9 +190,19 @@ def _box_stack(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list
     return out
 
 
-def _bin(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Prism]:
+def waste_bin(
+    rng: np.random.Generator,
+    planner: FloorPlanner,
+    k: int,
+    walls: tuple[int, ...] | None = None,
+) -> list[Prism]:
+    """A round bin standing free, or against one of ``walls`` if given."""
     radius, height = float(rng.uniform(0.15, 0.25)), float(rng.uniform(0.4, 0.7))
-    spot = planner.spot(radius, against_wall=False)
+    if walls is None:
+        spot = planner.spot(radius)
+    else:
+        at_wall = planner.against_wall(2 * radius, 2 * radius, walls)
+        spot = None if at_wall is None else (at_wall.x, at_wall.y, 0.0)
     if spot is None:
         return []
     x, y, _ = spot
@@ -300,7 +211,7 @@ def _bin(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Prism
     return [Cylinder(f"bin_{k}", 0.0, height, side, cap, centre=(x, y), radius=radius)]
 
 
-def _legs(
+def legs(
     rng: np.random.Generator,
     name: str,
     centre: tuple[float, float],
@@ -334,9 +245,9 @@ def _legs(
     return out
 
 
-def _table(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Prism]:
+def table(rng: np.random.Generator, planner: FloorPlanner, k: int) -> list[Prism]:
     sx, sy = float(rng.uniform(0.8, 1.6)), float(rng.uniform(0.6, 0.9))
-    spot = planner.spot(float(np.hypot(sx, sy)) / 2, against_wall=False)
+    spot = planner.spot(float(np.hypot(sx, sy)) / 2)
     if spot is None:
         return []
     x, y, angle = spot
@@ -354,7 +265,7 @@ def _table(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Pri
             angle=angle,
         )
     ]
-    out += _legs(rng, f"table_{k}", (x, y), (sx, sy), angle, top_z)
+    out += legs(rng, f"table_{k}", (x, y), (sx, sy), angle, top_z)
     s, h = float(rng.uniform(0.2, 0.35)), float(rng.uniform(0.15, 0.45))
     out.append(
         Box(
@@ -369,27 +280,6 @@ def _table(rng: np.random.Generator, planner: _FloorPlanner, k: int) -> list[Pri
         )
     )
     return out
-
-
-def base_scene(seed: int, room: Room, grid: Grid) -> Scene:
-    """The seeded room without any variant additions."""
-    rng = np.random.default_rng([seed, 0])
-    wall, windows = _paint_walls(rng, room)
-    floor = Surface(
-        tx.floor(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE),
-        (room.width, room.depth),
-        room.place_plane(0.0, 1.0),
-    )
-    ceiling, bars = _ceiling(rng, room)
-    (gx0, gy0), (gx1, gy1) = grid.position(0, 0), grid.position(*(n - 1 for n in grid.shape))
-    keep_out = (gx0 - GRID_MARGIN, gy0 - GRID_MARGIN, gx1 + GRID_MARGIN, gy1 + GRID_MARGIN)
-    planner = _FloorPlanner(rng, room, keep_out)
-    objects: list[Prism] = []
-    makers = [(_cabinet, (3, 7)), (_table, (1, 3)), (_box_stack, (3, 7)), (_bin, (1, 4))]
-    for make, (lo, hi) in makers:
-        for k in range(int(rng.integers(lo, hi))):
-            objects += make(rng, planner, k)
-    return Scene(room, wall, floor, ceiling, objects, windows, bars)
 
 
 # --------------------------------------------------------------------------- variants
@@ -427,44 +317,62 @@ def _plant(rng: np.random.Generator, grid: Grid, camera_height: float, room: Roo
     a, b = cells[int(rng.integers(len(cells)))]
     cx, cy = (float(v) for v in grid.position(a, b))
     cameras = _cameras(grid, camera_height)
-    room_top = room.height - 0.1
     reach = s * np.sqrt(0.5) - CAMERA_CLEARANCE - 0.01  # pot radius that misses the cameras
-    variant = "arboreal"
-    pot_r, pot_h = float(np.clip(reach, 0.05, 0.16)), float(rng.uniform(0.3, 0.45))
-    top = float(min(rng.uniform(1.7, 2.2), room_top))
+    pot = (float(np.clip(reach, 0.05, 0.16)), float(rng.uniform(0.3, 0.45)))
+    top = float(min(rng.uniform(1.7, 2.2), room.height - 0.1))
+    parts = potted_plant(
+        rng, "plant", (cx, cy), pot, top, lambda p: _clear_of(p, cameras, room), "arboreal"
+    )
+    if not parts:
+        raise ConfigError(f"grid spacing {s} m leaves no room for the arboreal plant's pot")
+    return parts
+
+
+def potted_plant(
+    rng: np.random.Generator,
+    name: str,
+    centre: tuple[float, float],
+    pot: tuple[float, float],
+    top: float,
+    fits: Callable[[list[Prism]], bool],
+    variant: str | None = None,
+) -> list[Prism]:
+    """A pot of ``pot`` = (radius, height) metres at ``centre``, a trunk up to ``top`` metres
+    and 6-10 clumps of leaves; ``fits`` accepts the pot and trunk (else []) and each clump."""
+    (cx, cy), (pot_r, pot_h) = centre, pot
     parts: list[Prism] = [
         Cylinder(
-            "plant/pot",
+            f"{name}/pot",
             0.0,
             pot_h,
             tx.striped(rng, texture_shape(2 * np.pi * pot_r, pot_h)),
             tx.blank(texture_shape(2 * pot_r, 2 * pot_r), 0.15),
-            centre=(cx, cy),
+            centre=centre,
             radius=pot_r,
             variant=variant,
         ),
         Cylinder(
-            "plant/trunk",
+            f"{name}/trunk",
             pot_h,
             top,
             tx.bark(rng, texture_shape(0.16, top)),
             tx.blank(texture_shape(0.05, 0.05), 0.2),
-            centre=(cx, cy),
+            centre=centre,
             radius=0.025,
             variant=variant,
         ),
     ]
-    if not _clear_of(parts, cameras, room):
-        raise ConfigError(f"grid spacing {s} m leaves no room for the arboreal plant's pot")
+    if not fits(parts):
+        return []
     n_clumps = int(rng.integers(6, 11))
     for k in range(n_clumps):
-        for _ in range(_ATTEMPTS):
+        for _ in range(ATTEMPTS):
             z0 = float(rng.uniform(pot_h + 0.3, top - 0.15))
             h = float(rng.uniform(0.15, 0.35))
             r = float(rng.uniform(0.08, 0.3))
             off = rng.uniform(-0.08, 0.08, size=2)
             leaf = Cylinder(
-                f"plant/leaves_{k}",
+                f"{name}/leaves_{k}",
                 z0,
                 min(z0 + h, top),
                 tx.foliage(rng, texture_shape(2 * np.pi * r, h)),
@@ -473,7 +381,7 @@ def _plant(rng: np.random.Generator, grid: Grid, camera_height: float, room: Roo
                 radius=r,
                 variant=variant,
             )
-            if _clear_of([leaf], cameras, room):
+            if fits([leaf]):
                 parts.append(leaf)
                 break
     return parts
@@ -516,7 +424,7 @@ def _chair(
             variant=variant,
         )
     )
-    parts += _legs(rng, name, centre, (w, w), angle, seat_z, variant)
+    parts += legs(rng, name, centre, (w, w), angle, seat_z, variant)
     return parts
 
 
@@ -541,7 +449,7 @@ def _chairs(
     cameras = _cameras(grid, camera_height)
     chairs: list[Prism] = []
     for k in range(int(rng.integers(2, 5))):
-        for _ in range(_ATTEMPTS):
+        for _ in range(ATTEMPTS):
             c = (float(rng.uniform(gx0 - 0.5, gx1 + 0.5)), float(rng.uniform(gy0 - 0.5, gy1 + 0.5)))
             parts = _chair(rng, k, c, float(rng.uniform(0, 2 * np.pi)))
             apart = all(_apart(p, o) for p in parts for o in [*taken, *chairs])

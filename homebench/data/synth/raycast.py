@@ -4,7 +4,9 @@ Rays are the pixel centres of a :class:`PanoramaGeometry`. Distances are measure
 horizontally (rho): a ray's horizontal direction depends only on its column and its slope
 (tan elevation) only on its row, so every footprint crossing is a 1-D computation per column,
 every height crossing a 1-D computation per row, and a prism's hits are their intersection on
-the block of rows x columns it can cover (a z-buffer on rho).
+the block of rows x columns it can cover (a z-buffer on rho). Floor hits inside a floor patch
+take the patch's texture; every hit records the density of the texture it took (for the mip
+level).
 """
 
 from __future__ import annotations
@@ -26,14 +28,15 @@ _TINY = 1e-12
 @dataclass
 class Hits:
     """Per-pixel results, each (height, width): horizontal distance ``rho`` (m), object
-    ``label`` (0 = room), level-0 atlas coordinates (``x``, ``y``) and the |cosine| of the
-    incidence angle."""
+    ``label`` (0 = room), level-0 atlas coordinates (``x``, ``y``), the |cosine| of the
+    incidence angle and the ``density`` (texels per metre) of the texture hit."""
 
     rho: Float32
     label: NDArray[np.int32]
     x: Float32
     y: Float32
     cos_incidence: Float32
+    density: Float32
 
 
 @dataclass(frozen=True)
@@ -78,8 +81,10 @@ def cast(
         *origin, np.cos(direction), np.sin(direction), tan, np.cos(elevation), np.sin(elevation)
     )
     hits = _cast_room(scene, regions, rays)
+    n_room = len(scene.room_surfaces())
     for k, obj in enumerate(scene.objects):
-        _cast_prism(hits, obj, k + 1, regions[3 + 3 * k : 6 + 3 * k], rays)
+        first = n_room + 3 * k
+        _cast_prism(hits, obj, k + 1, regions[first : first + 3], rays)
     return hits
 
 
@@ -92,15 +97,29 @@ def _cast_room(scene: Scene, regions: list[Region], rays: _Rays) -> Hits:
     rho = np.minimum(rho_wall[None, :], rho_plane[:, None])
     z = rays.oz + rho * rays.tan[:, None]
     wx, wy = regions[0].coords(u_wall[None, :], room.height - z)
-    pu, pv = room.plane_uv(rays.ox + rho * rays.c, rays.oy + rho * rays.s)
+    px, py = rays.ox + rho * rays.c, rays.oy + rho * rays.s
+    pu, pv = room.plane_uv(px, py)
     fx, fy = regions[1].coords(pu, pv)
     cx, cy = regions[2].coords(pu, pv)
     up2 = up[:, None]
     x = np.where(wall, wx, np.where(up2, cx, fx))
     y = np.where(wall, wy, np.where(up2, cy, fy))
+    density = np.where(
+        wall, regions[0].density, np.where(up2, regions[2].density, regions[1].density)
+    ).astype(np.float32)
+    patch_regions = regions[3 : 3 + len(scene.patches)]
+    for patch, region in zip(scene.patches, patch_regions, strict=True):
+        on = ~wall & ~up2 & patch.contains(px, py)
+        x[on], y[on] = region.coords(*patch.uv(px[on], py[on]))
+        density[on] = region.density
     cos_inc = np.where(wall, rays.cos_el[:, None] * cos_wall[None, :], np.abs(rays.sin_el)[:, None])
     return Hits(
-        rho.astype(np.float32), np.zeros(rho.shape, np.int32), x, y, cos_inc.astype(np.float32)
+        rho.astype(np.float32),
+        np.zeros(rho.shape, np.int32),
+        x,
+        y,
+        cos_inc.astype(np.float32),
+        density,
     )
 
 
@@ -117,6 +136,7 @@ def _cast_prism(hits: Hits, obj: Prism, label: int, regions: list[Region], rays:
     rs = slice(int(rows[0]), int(rows[-1]) + 1)
     side_region, top_region, bottom_region = regions
     top = (rays.tan[rs] < 0)[:, None]
+    cap_density = np.where(top, top_region.density, bottom_region.density)
     for cs in _runs(columns):
         entry = np.maximum(rho_in[cs][None, :], lo[rs][:, None])
         leave = np.minimum(rho_out[cs][None, :], hi[rs][:, None])
@@ -132,9 +152,11 @@ def _cast_prism(hits: Hits, obj: Prism, label: int, regions: list[Region], rays:
         cos_inc = np.where(
             side, rays.cos_el[rs][:, None] * cos_h[cs][None, :], np.abs(rays.sin_el[rs])[:, None]
         )
+        density = np.where(side, side_region.density, cap_density)
         block = (rs, cs)
         np.copyto(hits.rho[block], entry, where=hit, casting="unsafe")
         np.copyto(hits.label[block], label, where=hit)
         np.copyto(hits.x[block], np.where(side, sx, np.where(top, tx, bx)), where=hit)
         np.copyto(hits.y[block], np.where(side, sy, np.where(top, ty, by)), where=hit)
         np.copyto(hits.cos_incidence[block], cos_inc, where=hit, casting="unsafe")
+        np.copyto(hits.density[block], density, where=hit, casting="unsafe")

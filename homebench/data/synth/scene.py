@@ -8,13 +8,16 @@ height.
 Texture coordinates (u, v) are metres on a surface: u along its columns, v down its rows from
 the top. Sides unroll counter-clockwise seen from above (so that text reads correctly from
 outside); the room's walls unroll clockwise from the corner (width, 0) (readable from inside).
+Textures need not share one density: a far wall may hold a few texels per metre, and
+floor :class:`Patch` es add detail where the cameras look closely.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
+from functools import cached_property
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -30,12 +33,16 @@ Crossing = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
 
 TEXELS_PER_METRE = 100.0
 _TINY = 1e-12
+_SELF = 1e-3  # metres a shadow ray travels before it can be blocked
 
 
-def texture_shape(u_metres: float, v_metres: float) -> tuple[int, int]:
-    """Pixel shape (rows, cols) of a texture covering ``u_metres`` x ``v_metres``."""
-    cols = max(2, int(np.ceil(u_metres * TEXELS_PER_METRE)))
-    rows = max(2, int(np.ceil(v_metres * TEXELS_PER_METRE)))
+def texture_shape(
+    u_metres: float, v_metres: float, density: float = TEXELS_PER_METRE
+) -> tuple[int, int]:
+    """Pixel shape (rows, cols) of a texture covering ``u_metres`` x ``v_metres`` at
+    ``density`` texels per metre."""
+    cols = max(2, int(np.ceil(u_metres * density)))
+    rows = max(2, int(np.ceil(v_metres * density)))
     return rows, cols
 
 
@@ -43,8 +50,10 @@ def _nonzero(a: FloatArray) -> FloatArray:
     return np.where(np.abs(a) < _TINY, _TINY, a)
 
 
-def _slabs(o: float, d: FloatArray, lo: float, hi: float) -> tuple[FloatArray, FloatArray]:
-    """Ray distances where ``o + t * d`` enters / leaves [lo, hi]; shapes of ``d``."""
+def _slabs(
+    o: float | FloatArray, d: FloatArray, lo: float, hi: float
+) -> tuple[FloatArray, FloatArray]:
+    """Ray distances where ``o + t * d`` enters / leaves [lo, hi]; ``o`` and ``d`` broadcast."""
     inv = 1.0 / _nonzero(d)
     t1, t2 = (lo - o) * inv, (hi - o) * inv
     return np.minimum(t1, t2), np.maximum(t1, t2)
@@ -56,8 +65,9 @@ class Surface:
 
     ``albedo``: (rows, cols) in [0, 1] over ``size`` = (u extent, v extent). ``place`` maps
     (u, v) arrays to world points and unit normals, each (..., 3). ``albedo_open`` replaces the
-    albedo when curtains are open; ``glow`` (same shape, 0..1) is an emission pattern switched
-    by the lighting (``glow_kind``).
+    albedo when curtains are open; ``glow`` (same shape, >= 0) is an emission pattern switched
+    by the lighting (``glow_kind``). A texture may have any density (:attr:`scale`): the
+    renderer chooses mip levels from each hit's own density.
     """
 
     albedo: Texture
@@ -65,7 +75,7 @@ class Surface:
     place: Placement
     albedo_open: Texture | None = None
     glow: Texture | None = None
-    glow_kind: Literal["lights", "window"] | None = None
+    glow_kind: Literal["lights", "window", "sky"] | None = None
 
     def __post_init__(self) -> None:
         self.albedo = np.clip(self.albedo, 0.0, 1.0).astype(np.float32)
@@ -101,7 +111,10 @@ class Prism(ABC):
 
     @abstractmethod
     def crossing(self, ox: float, oy: float, c: FloatArray, s: FloatArray) -> Crossing:
-        """Where horizontal rays from (ox, oy) along (c, s) (each (n,)) cross the footprint."""
+        """Where horizontal rays from (ox, oy) along (c, s) (each (n,)) cross the footprint.
+
+        The origin may also be arrays (n,): one ray per origin.
+        """
 
     @property
     @abstractmethod
@@ -134,6 +147,23 @@ class Prism(ABC):
         """Signed horizontal distance from the footprint (negative inside)."""
 
     # -- shared
+    @cached_property
+    def bounds(self) -> FloatArray:
+        """Bounding box (4,) of the footprint: min x, min y, max x, max y."""
+        ring = self.outline()
+        return np.concatenate([ring.min(axis=0), ring.max(axis=0)])
+
+    def blocks(self, points: FloatArray, direction: FloatArray) -> NDArray[np.bool_]:
+        """Whether rays from ``points`` (n, 3) towards ``direction`` (3,), a unit vector above
+        the horizon, pass through the solid (n,). Points on its surface do not block
+        themselves."""
+        horizontal = float(np.hypot(direction[0], direction[1]))
+        c, s = np.array(direction[0] / horizontal), np.array(direction[1] / horizontal)
+        rho_in, rho_out, _, _ = self.crossing(points[:, 0], points[:, 1], c, s)
+        slope = direction[2] / horizontal  # metres up per metre along the ground
+        low, high = (self.z0 - points[:, 2]) / slope, (self.z1 - points[:, 2]) / slope
+        return np.minimum(rho_out, high) > np.maximum(np.maximum(rho_in, low), _SELF)
+
     def clearance(self, x: float, y: float, z: float) -> float:
         """Distance in metres from a point to the solid (0 inside)."""
         dxy = max(self.distance_xy(x, y), 0.0)
@@ -194,8 +224,8 @@ class Box(Prism):
         lx, ly = self._to_local(ox, oy)
         ca, sa = np.cos(self.angle), np.sin(self.angle)
         dx, dy = c * ca + s * sa, -c * sa + s * ca
-        txa, txb = _slabs(float(lx), dx, -hx, hx)
-        tya, tyb = _slabs(float(ly), dy, -hy, hy)
+        txa, txb = _slabs(lx, dx, -hx, hx)
+        tya, tyb = _slabs(ly, dy, -hy, hy)
         rho_in, rho_out = np.maximum(txa, tya), np.minimum(txb, tyb)
         px, py = lx + rho_in * dx, ly + rho_in * dy
         sx, sy = self.size
@@ -408,8 +438,37 @@ class LightBar:
 
 
 @dataclass(eq=False)
+class Patch:
+    """A rectangle ``x`` x ``y`` (metres) of the floor with its own texture, drawn over the
+    floor (and over earlier patches): detail where the cameras look closely, a coarse floor
+    elsewhere. Texture coordinates as the floor's, from the patch's corner: u = x - x[0],
+    v = y[1] - y."""
+
+    x: tuple[float, float]
+    y: tuple[float, float]
+    surface: Surface = field(init=False)
+    albedo: InitVar[Texture]
+
+    def __post_init__(self, albedo: Texture) -> None:
+        (x0, x1), (y0, y1) = self.x, self.y
+
+        def place(u: FloatArray, v: FloatArray) -> tuple[FloatArray, FloatArray]:
+            x, y = x0 + np.asarray(u, np.float64), y1 - np.asarray(v, np.float64)
+            return _stack(x, y, 0.0), _stack(0.0 * x, 0.0 * y, 1.0)
+
+        self.surface = Surface(albedo, (x1 - x0, y1 - y0), place)
+
+    def contains(self, x: FloatArray, y: FloatArray) -> NDArray[np.bool_]:
+        return (x >= self.x[0]) & (x <= self.x[1]) & (y >= self.y[0]) & (y <= self.y[1])
+
+    def uv(self, x: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
+        return x - self.x[0], self.y[1] - y
+
+
+@dataclass(eq=False)
 class Scene:
-    """Everything that is drawn: the room's three surfaces, objects, windows and light bars."""
+    """Everything that is drawn: the room's three surfaces, objects, windows, light bars and
+    floor patches."""
 
     room: Room
     wall: Surface
@@ -418,10 +477,16 @@ class Scene:
     objects: list[Prism]
     windows: list[Window]
     bars: list[LightBar]
+    patches: list[Patch] = field(default_factory=list)
+
+    def room_surfaces(self) -> list[Surface]:
+        """Wall, floor, ceiling and the floor patches' surfaces, in atlas order."""
+        return [self.wall, self.floor, self.ceiling, *(p.surface for p in self.patches)]
 
     def surfaces(self) -> list[Surface]:
-        """All surfaces in atlas order: wall, floor, ceiling, then (side, top, bottom) each."""
-        out = [self.wall, self.floor, self.ceiling]
+        """All surfaces in atlas order: :meth:`room_surfaces`, then (side, top, bottom) of each
+        object."""
+        out = self.room_surfaces()
         for obj in self.objects:
             out.extend(obj.surfaces())
         return out
@@ -436,6 +501,7 @@ class Scene:
             [*self.objects, *extra],
             self.windows,
             self.bars,
+            self.patches,
         )
 
     def clearance(self, x: float, y: float, z: float) -> float:

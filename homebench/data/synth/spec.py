@@ -14,13 +14,16 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from homebench.data.synth.camera import CameraSpec
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
 
 #: Bump when the renderer changes its output for an unchanged spec (invalidates caches).
-RENDERER_VERSION = 1
+RENDERER_VERSION = 2
 
 Variant = Literal["original", "arboreal", "chairs", "day", "twilight", "winlit"]
 VARIANTS: tuple[Variant, ...] = ("original", "arboreal", "chairs", "day", "twilight", "winlit")
+Style = Literal["posters", "lab", "corridor", "outdoor"]
+STYLES: tuple[Style, ...] = ("posters", "lab", "corridor", "outdoor")
 
 
 class _Frozen(BaseModel):
@@ -42,11 +45,23 @@ class GridSpec(_Frozen):
 
 
 class RoomSpec(_Frozen):
-    """Room extent in metres: x in [0, width], y in [0, depth], z in [0, height]."""
+    """Room extent in metres: x in [0, width], y in [0, depth], z in [0, height].
+
+    Outdoors the "room" is the box of the far scenery (skyline on its walls, sky above).
+    """
 
     width: float = Field(6.0, gt=1)
     depth: float = Field(8.4, gt=1)
     height: float = Field(2.8, gt=1)
+
+
+#: Each style's room when the spec names none.
+STYLE_ROOMS: dict[Style, RoomSpec] = {
+    "posters": RoomSpec(width=6.0, depth=8.4, height=2.8),
+    "lab": RoomSpec(width=6.6, depth=9.0, height=3.0),
+    "corridor": RoomSpec(width=3.6, depth=16.0, height=2.7),
+    "outdoor": RoomSpec(width=400.0, depth=400.0, height=150.0),
+}
 
 
 class RawImageSpec(_Frozen):
@@ -98,34 +113,47 @@ class UnfoldedImageSpec(_Frozen):
 
 
 class WorldSpec(_Frozen):
-    """A generated world: a seeded room, one variant of it, a capture grid and two cameras."""
+    """A generated world: a seeded place of one ``style``, one variant of it, a capture grid,
+    the two image geometries and the camera that takes them.
+
+    ``room`` None takes the style's room (:data:`STYLE_ROOMS`). ``light_gain`` multiplies all
+    scene radiance (a pure global change of the light, for testing the camera's exposure).
+    """
 
     seed: int = Field(0, ge=0)
+    style: Style = "posters"
     variant: Variant = "original"
-    room: RoomSpec = RoomSpec()
+    room: RoomSpec | None = None
     grid: GridSpec = GridSpec()
     camera_height: float = Field(1.0, gt=0)
     heading_deg: float = 0.0
     raw: RawImageSpec = RawImageSpec()
     unfolded: UnfoldedImageSpec = UnfoldedImageSpec()
-    noise_sigma: float = Field(1.0, ge=0)  # sensor noise, grey levels (0..255); variants scale it
+    camera: CameraSpec = CameraSpec()
+    light_gain: float = Field(1.0, gt=0)
 
     @model_validator(mode="after")
     def _grid_fits_room(self) -> WorldSpec:
-        g = self.to_grid()
+        g, room = self.to_grid(), self.room_extent
         far = g.position(g.shape[0] - 1, g.shape[1] - 1)
-        if min(g.origin) <= 0 or far[0] >= self.room.width or far[1] >= self.room.depth:
+        if min(g.origin) <= 0 or far[0] >= room.width or far[1] >= room.depth:
             raise ValueError("the capture grid must lie inside the room")
-        if not 0 < self.camera_height < self.room.height:
+        if not 0 < self.camera_height < room.height:
             raise ValueError("camera_height must be between floor and ceiling")
         return self
+
+    @property
+    def room_extent(self) -> RoomSpec:
+        """The room in metres: ``room`` or the style's."""
+        return self.room if self.room is not None else STYLE_ROOMS[self.style]
 
     def to_grid(self) -> Grid:
         if self.grid.origin is not None:
             return Grid(self.grid.shape, self.grid.spacing, self.grid.origin)
         nx, ny = self.grid.shape
-        x0 = (self.room.width - (nx - 1) * self.grid.spacing) / 2.0
-        y0 = (self.room.depth - (ny - 1) * self.grid.spacing) / 2.0
+        room = self.room_extent
+        x0 = (room.width - (nx - 1) * self.grid.spacing) / 2.0
+        y0 = (room.depth - (ny - 1) * self.grid.spacing) / 2.0
         return Grid(self.grid.shape, self.grid.spacing, (x0, y0))
 
     def pose(self, i: int, j: int) -> Pose:

@@ -7,6 +7,7 @@ that generator, so a seeded layout always paints the same room.
 from __future__ import annotations
 
 import string
+from collections.abc import Callable
 from functools import lru_cache
 
 import cv2
@@ -16,6 +17,8 @@ from numpy.typing import NDArray
 
 Texture = NDArray[np.float32]
 Rng = np.random.Generator
+#: A painter bound to its generator: pixel shape (rows, cols) -> texture of that shape.
+Painter = Callable[[tuple[int, int]], Texture]
 
 #: matplotlib's bundled sample images used as posters.
 SAMPLE_IMAGES = ("grace_hopper.jpg", "Minduka_Present_Blue_Pack.png", "logo2.png")
@@ -187,22 +190,33 @@ def door(rng: Rng, shape: tuple[int, int]) -> Texture:
     frame(tex, 0, 0, h + f, w, f, float(np.clip(leaf + rng.choice([-0.25, 0.25]), 0.05, 0.95)))
     for r0, r1 in ((h // 10, h * 9 // 20), (h // 2, h * 9 // 10)):
         frame(tex, r0, w // 5, r1, w - w // 5, max(1, f // 2), leaf - 0.12)
-    hr, hc = h * 53 // 100, w - w // 7
-    fill_rect(tex, hr - f // 2, hc - 2 * f, hr + f // 2, hc, 0.9)
-    fill_rect(tex, hr + f, hc - f // 2, hr + 2 * f, hc, 0.05)  # key hole
+    handle(tex, h * 53 // 100, w - w // 7, f)
     return tex
 
 
-def curtains_closed(rng: Rng, shape: tuple[int, int]) -> Texture:
-    """Drawn curtains: vertical folds over a faint woven pattern."""
+def handle(tex: Texture, row: int, col: int, size: int) -> None:
+    """A lever handle ending at (``row``, ``col``) px, ``size`` px thick, and a key hole below."""
+    fill_rect(tex, row - size // 2, col - 2 * size, row + size // 2, col, 0.9)
+    fill_rect(tex, row + size, col - size // 2, row + 2 * size, col, 0.05)
+
+
+def curtains_closed(
+    rng: Rng,
+    shape: tuple[int, int],
+    shade: tuple[float, float] = (0.4, 0.7),
+    contrast: float = 1.0,
+) -> Texture:
+    """Drawn curtains: vertical folds over a faint woven pattern; base grey drawn from ``shade``,
+    ``contrast`` scales folds and weave (1: a mid-grey curtain's)."""
     h, w = shape
-    base = float(rng.uniform(0.4, 0.7))
+    base = float(rng.uniform(*shade))
     period = float(rng.uniform(6, 14))
     cols = np.arange(w, dtype=np.float32)
-    folds = 0.12 * np.sin(2 * np.pi * cols / period + 0.8 * noise(rng, (1, w), w / 8)[0])
-    tex = base + folds[None, :] + 0.04 * noise(rng, shape, 6, octaves=2)
+    phase = 2 * np.pi * cols / period + 0.8 * noise(rng, (1, w), w / 8)[0]
+    folds = 0.12 * contrast * np.sin(phase)
+    tex = base + folds[None, :] + 0.04 * contrast * noise(rng, shape, 6, octaves=2)
     pattern_step = int(rng.integers(12, 30))
-    tex[::pattern_step, :] -= 0.08
+    tex[::pattern_step, :] -= 0.08 * contrast
     return tex
 
 
@@ -358,9 +372,11 @@ def pipes(rng: Rng, shape: tuple[int, int]) -> Texture:
     return tex
 
 
-def plain_wall(rng: Rng, shape: tuple[int, int]) -> Texture:
-    """Painted plaster: a base grey with blotches and fine grain."""
-    base = float(rng.uniform(0.6, 0.8))
+def plain_wall(
+    rng: Rng, shape: tuple[int, int], shade: tuple[float, float] = (0.6, 0.8)
+) -> Texture:
+    """Painted plaster: a base grey drawn from ``shade`` with blotches and fine grain."""
+    base = float(rng.uniform(*shade))
     return base + 0.04 * noise(rng, shape, 60) + 0.015 * noise(rng, shape, 2, octaves=1)
 
 
@@ -371,12 +387,7 @@ def floor(rng: Rng, shape: tuple[int, int], px_per_m: float) -> Texture:
     """Floor tiles with grout and per-tile shade, or a patterned carpet."""
     h, w = shape
     if rng.random() < 0.5:
-        tile = int(px_per_m * rng.uniform(0.3, 0.5))
-        shades = rng.uniform(0.25, 0.6, size=(h // tile + 1, w // tile + 1)).astype(np.float32)
-        tex = np.kron(shades, np.ones((tile, tile), np.float32))[:h, :w]
-        tex = tex + 0.05 * noise(rng, shape, 8)
-        tex[::tile, :] = 0.15
-        tex[:, ::tile] = 0.15
+        tex = tiles(rng, shape, int(px_per_m * rng.uniform(0.3, 0.5)), (0.25, 0.6))
     else:
         tex = 0.35 + 0.08 * noise(rng, shape, 40) + 0.05 * noise(rng, shape, 3, octaves=1)
         period = int(px_per_m * rng.uniform(0.15, 0.3))
@@ -400,10 +411,39 @@ def floor(rng: Rng, shape: tuple[int, int], px_per_m: float) -> Texture:
     return tex
 
 
-def ceiling_tiles(rng: Rng, shape: tuple[int, int], px_per_m: float) -> Texture:
-    """Acoustic ceiling tiles in a 0.6 m grid with speckle."""
+def tiles(
+    rng: Rng,
+    shape: tuple[int, int],
+    tile: int,
+    shades: tuple[float, float],
+    alternate: float = 0.0,
+) -> Texture:
+    """Square tiles of ``tile`` px, each a grey drawn from ``shades`` (plus ``alternate`` on every
+    other tile, a checkerboard), with grain and 1 px grout lines."""
+    h, w = shape
+    grid = (h // tile + 1, w // tile + 1)
+    shade = rng.uniform(*shades, size=grid).astype(np.float32)
+    shade += np.float32(alternate) * (np.add.outer(*(np.arange(n) for n in grid)) % 2)
+    tex = np.kron(shade, np.ones((tile, tile), np.float32))[:h, :w]
+    tex = tex + 0.05 * noise(rng, shape, 8)
+    tex[::tile, :] = 0.15
+    tex[:, ::tile] = 0.15
+    return tex
+
+
+def linoleum(rng: Rng, shape: tuple[int, int], px_per_m: float) -> Texture:
+    """Sheet flooring: a mottled grey with fine speckle and the welded seams of 2 m wide sheets
+    laid along the rows (v)."""
+    tex = float(rng.uniform(0.3, 0.5)) + 0.03 * noise(rng, shape, 40)
+    tex += 0.025 * noise(rng, shape, 1.5, octaves=1)
+    tex[:, int(rng.integers(0, int(2 * px_per_m))) :: int(2 * px_per_m)] -= 0.08
+    return tex
+
+
+def ceiling_tiles(rng: Rng, shape: tuple[int, int], px_per_m: float, tile: float = 0.6) -> Texture:
+    """Acoustic ceiling tiles in a ``tile`` metre grid with speckle."""
     tex = 0.8 + 0.05 * noise(rng, shape, 3, octaves=2)
-    step = int(0.6 * px_per_m)
+    step = int(tile * px_per_m)
     tex[::step, :] = 0.5
     tex[:, ::step] = 0.5
     return tex
@@ -520,3 +560,255 @@ def checker(
     rows = (np.arange(h) * squares[0] // h)[:, None]
     cols = (np.arange(w) * squares[1] // w)[None, :]
     return np.where((rows + cols) % 2 == 0, high, low).astype(np.float32)
+
+
+# --------------------------------------------------------------------------- offices and labs
+
+
+def luminaire(shape: tuple[int, int], louvres: int = 0) -> tuple[Texture, Texture]:
+    """A ceiling luminaire seen from below: (albedo, glow mask 0..1). A 3 px frame; ``louvres``
+    cross blades (across the long side) shade the diffuser, 0 gives a plain diffuser."""
+    h, w = shape
+    albedo, glow = blank(shape, 0.9), blank(shape, 1.0)
+    long_rows = h >= w
+    n = h if long_rows else w
+    for k in range(1, louvres + 1):
+        at = k * n // (louvres + 1)
+        rows, cols = ((at - 1, at + 1), (0, w)) if long_rows else ((0, h), (at - 1, at + 1))
+        fill_rect(albedo, rows[0], cols[0], rows[1], cols[1], 0.6)
+        fill_rect(glow, rows[0], cols[0], rows[1], cols[1], 0.25)
+    frame(albedo, 0, 0, h, w, 3, 0.3)
+    frame(glow, 0, 0, h, w, 3, 0.0)
+    return albedo, glow
+
+
+def slats(shape: tuple[int, int], pitch: int, grey: float) -> Texture:
+    """Horizontal slats of a venetian blind, ``pitch`` px apart, with a shaded gap row each."""
+    tex = blank(shape, grey)
+    tex[pitch - 1 :: pitch, :] = grey * 0.65
+    tex[::pitch, :] = min(grey * 1.1, 0.95)
+    return tex
+
+
+def venetian_window(
+    rng: Rng, shape: tuple[int, int], frame_px: int, slat_px: int, grey: float, lowered: float
+) -> tuple[Texture, Texture, Texture]:
+    """A window with a venetian blind of slats ``grey``, ``slat_px`` apart: (albedo with the
+    blind down and shut, albedo with it open, glow mask of the open state: the outside view's
+    relative luminance where it shows).
+
+    Open: the blind is raised to a packed stack under the head rail; if ``lowered`` (0..1, the
+    share of the height it still covers) is above the stack, the lowered part has its slats
+    tilted open (the view shows between them). Frame and a mullion are shared by both states.
+    """
+    h, w = shape
+    closed = slats(shape, slat_px, grey) + 0.03 * noise(rng, shape, w / 3, octaves=1)
+    fill_rect(closed, h - 2 * frame_px, 0, h - frame_px, w, grey * 0.8)  # bottom rail
+    view = outside_view(rng, shape)
+    opened, glow = blank(shape, 0.0), view.copy()
+    stack = max(frame_px + 2, h // 9)
+    down = max(stack, int(h * lowered))
+    open_slats = np.zeros(h, bool)
+    open_slats[stack:down] = (np.arange(stack, down) % slat_px) == 0
+    opened[open_slats, :], glow[open_slats, :] = grey, 0.0
+    fill_rect(opened, 0, 0, stack, w, slats((stack, w), 2, grey))
+    fill_rect(glow, 0, 0, stack, w, 0.0)
+    mullion = (w // 2 - frame_px // 2, w // 2 + frame_px // 2) if w > 2.2 * h / 2 else None
+    for tex, value in ((closed, 0.85), (opened, 0.85), (glow, 0.0)):
+        frame(tex, 0, 0, h, w, frame_px, value)
+        if mullion is not None:
+            fill_rect(tex, 0, mullion[0], h, mullion[1], value)
+    return closed, opened, glow
+
+
+#: Glass panels of doors: (top, bottom, left, right) as fractions of the door's shape.
+VISION_PANEL = (0.15, 0.6, 0.2, 0.35)
+GLAZED_PANEL = (0.1, 0.6, 0.2, 0.8)
+
+
+def office_door(
+    rng: Rng,
+    shape: tuple[int, int],
+    leaf: float,
+    frame_grey: float,
+    panel: tuple[float, float, float, float] | None = None,
+    behind: tuple[float, float] = (0.08, 0.18),
+) -> tuple[Texture, Texture]:
+    """A flush door in a steel frame (frame included in ``shape``, no threshold): (albedo, glow).
+
+    ``leaf`` and ``frame_grey`` are the building's (doors of one place share them); a kick plate
+    and wear vary per door. A glass ``panel`` (fractions, e.g. :data:`VISION_PANEL`) shows the
+    room behind: dark glass in the albedo, in the glow mask that room's luminance relative to
+    the sky seen through a window, drawn from ``behind`` (a daylit office: about as bright as a
+    lit corridor's walls, a tenth of the sky).
+    """
+    h, w = shape
+    f = max(3, w // 16)
+    tex = leaf + 0.02 * noise(rng, shape, w / 2) + 0.01 * noise(rng, shape, 2, octaves=1)
+    glow = blank(shape, 0.0)
+    if panel is not None:
+        r0, r1 = int(h * panel[0]), int(h * panel[1])
+        c0, c1 = int(w * panel[2]), int(w * panel[3])
+        fill_rect(tex, r0, c0, r1, c1, 0.15)
+        room = float(rng.uniform(*behind)) + 0.05 * noise(rng, (r1 - r0, c1 - c0), 8)
+        fill_rect(glow, r0, c0, r1, c1, room)
+        frame(tex, r0 - 1, c0 - 1, r1 + 1, c1 + 1, 2, frame_grey)
+    if rng.random() < 0.5:
+        fill_rect(tex, h - h // 10, f, h, w - f, min(leaf + 0.2, 0.9))  # kick plate
+    plate = (h * 45 // 100, w - w // 7 - f // 2, h * 6 // 10, w - w // 7 + f // 2)
+    fill_rect(tex, *plate, 0.75)  # escutcheon
+    handle(tex, h * 52 // 100, w - w // 7 + f // 2, f)
+    frame(tex, 0, 0, h + f, w, f, frame_grey)
+    return tex, glow
+
+
+def door_sign(rng: Rng, shape: tuple[int, int], number: str) -> Texture:
+    """A room sign: a light plate with the room number large and a few lines of names."""
+    h, w = shape
+    tex = blank(shape, float(rng.uniform(0.8, 0.95)))
+    ink = np.zeros(shape, np.uint8)
+    scale = h / 2.0 / 22.0
+    cv2.putText(ink, number, (2, h * 4 // 10), cv2.FONT_HERSHEY_SIMPLEX, scale, 255, 1, cv2.LINE_AA)
+    tex -= 0.8 * ink.astype(np.float32) / 255.0
+    text_lines(tex, rng, (h // 2, 1, h - 1, w + 30), 0.2, max(0.12, h / 240.0))
+    frame(tex, 0, 0, h, w, 1, 0.4)
+    return tex
+
+
+def safety_sign(shape: tuple[int, int], kind: str) -> Texture:
+    """A square safety sign: ``"exit"`` (green: a running figure towards a door) or
+    ``"extinguisher"`` (red: an extinguisher's silhouette), as grey levels."""
+    h, w = shape
+    if kind == "exit":
+        tex = blank(shape, 0.45)
+        cv2.rectangle(tex, (w * 6 // 10, h // 6), (w * 9 // 10, h * 5 // 6), 0.95, 1)
+        cv2.circle(tex, (w * 35 // 100, h // 4), max(1, h // 10), 0.95, -1, cv2.LINE_AA)
+        body = np.array([[w // 3, h * 35 // 100], [w // 4, h * 6 // 10], [w // 6, h * 8 // 10]])
+        cv2.polylines(tex, [body.astype(np.int32)], False, 0.95, max(1, h // 12), cv2.LINE_AA)
+        legs = np.array(
+            [[w // 6, h * 8 // 10], [w // 4, h * 6 // 10], [w * 45 // 100, h * 8 // 10]]
+        )
+        cv2.polylines(tex, [legs.astype(np.int32)], False, 0.95, max(1, h // 14), cv2.LINE_AA)
+    else:
+        tex = blank(shape, 0.3)
+        fill_rect(tex, h // 4, w * 4 // 10, h * 85 // 100, w * 6 // 10, 0.95)
+        fill_rect(tex, h // 6, w * 45 // 100, h // 4, w * 55 // 100, 0.95)
+        cv2.line(tex, (w // 2, h // 6), (w * 3 // 4, h // 3), 0.95, max(1, w // 12), cv2.LINE_AA)
+    frame(tex, 0, 0, h, w, max(1, h // 16), 0.95)
+    return tex
+
+
+def cabinet_front(
+    rng: Rng, shape: tuple[int, int], front_cols: int, doors: int, vents: bool
+) -> Texture:
+    """A steel cabinet or locker unit unrolled around its sides: painted metal, the first
+    ``front_cols`` columns a front of ``doors`` equal leaves with handles; with ``vents``
+    (lockers) each leaf has vent slots at the top and bottom and a small number plate."""
+    h, w = shape
+    tex = metal(rng, shape)
+    gap = float(tex[0, 0]) - 0.25
+    leaf = front_cols / doors
+    for k in range(doors):
+        c0, c1 = int(round(k * leaf)), int(round((k + 1) * leaf))
+        frame(tex, 0, c0, h, c1, 1, gap)
+        mid = (c0 + c1) // 2
+        if vents:
+            for r0 in (h // 12, h - h // 6):
+                for r in range(r0, r0 + h // 16, 3):
+                    fill_rect(tex, r, c0 + 4, r + 1, c1 - 4, gap)
+            fill_rect(tex, h // 5, mid - 4, h // 5 + 4, mid + 4, 0.9)
+            fill_rect(tex, h // 4, c1 - 6, h // 4 + 10, c1 - 4, 0.15)
+        else:
+            side = c1 - 5 if k % 2 == 0 else c0 + 3
+            fill_rect(tex, h * 45 // 100, side, h * 55 // 100, side + 2, 0.1)
+    fill_rect(tex, h - 4, 0, h, front_cols, gap)  # plinth
+    return tex
+
+
+def binders(rng: Rng, shape: tuple[int, int], board_px: int) -> Texture:
+    """Open steel shelving holding rows of identical binders or archive boxes: one kind, grey
+    and width per shelf, labels at one height, a gap at the end of each row."""
+    h, w = shape
+    steel = float(rng.uniform(0.5, 0.8))
+    tex = blank(shape, 0.12) + 0.02 * noise(rng, shape, 10)
+    pitch = int(rng.integers(32, 40))
+    for bottom in range(h - board_px, pitch // 2, -pitch):
+        fill_rect(tex, bottom, 0, bottom + board_px, w, steel)
+        grey = float(rng.uniform(0.15, 0.85))
+        box = rng.random() < 0.35
+        width = int(rng.integers(24, 34)) if box else int(rng.integers(6, 9))
+        height = int(pitch * (rng.uniform(0.55, 0.7) if box else rng.uniform(0.75, 0.85)))
+        end = board_px + int((w - 2 * board_px) * rng.uniform(0.55, 1.0))
+        for c in range(board_px, end - width, width + 1):
+            fill_rect(tex, bottom - height, c, bottom, c + width, grey)
+            label = bottom - height * 2 // 3
+            fill_rect(tex, label, c + 2, label + max(3, height // 5), c + width - 2, 0.9)
+            if not box:  # the finger hole near the bottom of the spine
+                fill_rect(
+                    tex, bottom - height // 4, c + 2, bottom - height // 4 + 3, c + width - 2, 0.05
+                )
+    frame(tex, 0, 0, h, w, board_px, steel)
+    return tex
+
+
+def monitor(rng: Rng, shape: tuple[int, int], front_cols: int) -> Texture:
+    """A flat screen unrolled around its sides: on the first ``front_cols`` columns a switched
+    off screen (near black with a faint reflected gradient) in a bezel; dark plastic elsewhere."""
+    h, w = shape
+    plastic = float(rng.uniform(0.08, 0.25))
+    tex = blank(shape, plastic) + 0.01 * noise(rng, shape, 4)
+    b = max(1, front_cols // 30)
+    gradient = np.linspace(0.09, 0.03, h - 2 * b, dtype=np.float32)[:, None]
+    fill_rect(tex, b, b, h - b, front_cols - b, gradient + np.zeros((1, front_cols - 2 * b)))
+    return tex
+
+
+def cable_duct(shape: tuple[int, int], pitch: int, socket: int, offset: int) -> Texture:
+    """Wall trunking (rows = its height): a white duct with socket outlets every ``pitch`` px
+    from ``offset``, each ``socket`` px square with two pin holes."""
+    h, w = shape
+    tex = blank(shape, 0.88)
+    tex[0, :], tex[-1, :], tex[h // 2, :] = 0.6, 0.5, 0.8
+    top = max(0, (h - socket) // 2)
+    for c in range(offset, w - socket, pitch):
+        for k in (0, 1):
+            c0 = c + k * (socket + 2)
+            fill_rect(tex, top, c0, top + socket, c0 + socket, 0.95)
+            frame(tex, top, c0, top + socket, c0 + socket, 1, 0.65)
+            mid = top + socket // 2
+            for dc in (socket // 3, 2 * socket // 3):
+                fill_rect(tex, mid, c0 + dc, mid + 1, c0 + dc + 1, 0.1)
+    return tex
+
+
+def blackboard(rng: Rng, shape: tuple[int, int]) -> Texture:
+    """A wiped blackboard: near-black slate with faint chalk smears, a frame and a chalk tray."""
+    h, w = shape
+    tex = float(rng.uniform(0.06, 0.12)) + 0.03 * np.abs(noise(rng, shape, w / 8))
+    for _ in range(int(rng.integers(2, 6))):
+        c = rng.integers(0, [w, h])
+        cv2.ellipse(
+            tex,
+            (int(c[0]), int(c[1])),
+            (int(rng.integers(10, max(11, w // 6))), int(rng.integers(4, max(5, h // 8)))),
+            float(rng.uniform(-20, 20)),
+            0,
+            360,
+            float(tex.mean() + 0.04),
+            -1,
+            cv2.LINE_AA,
+        )
+    frame(tex, 0, 0, h, w, 3, float(rng.uniform(0.3, 0.5)))
+    fill_rect(tex, h - 5, 0, h, w, 0.35)
+    return tex
+
+
+def extinguisher(rng: Rng, shape: tuple[int, int]) -> Texture:
+    """A fire extinguisher's body unrolled: red paint (a dark grey here), a white instruction
+    label at mid-height and the black hose down one side."""
+    h, w = shape
+    tex = blank(shape, 0.28) + 0.02 * noise(rng, shape, 3)
+    fill_rect(tex, h * 3 // 10, w // 8, h * 7 // 10, w // 2, 0.9)
+    text_lines(tex, rng, (h * 3 // 10, w // 8, h * 7 // 10, w // 2 + 20), 0.2, 0.15)
+    fill_rect(tex, 0, w * 3 // 4, h * 9 // 10, w * 3 // 4 + max(2, w // 16), 0.05)
+    return tex

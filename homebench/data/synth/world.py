@@ -4,9 +4,14 @@ One cast per pose: rays for a supersampled equiangular panorama (``SUPERSAMPLE``
 unfolded resolution, covering the elevations of both cameras), textures sampled from the lit
 atlas with trilinear mip-mapping. The unfolded image is that panorama area-averaged (its
 ``zero_column`` is set so that each block of columns centres on the unfolded column's azimuth);
-the raw image is :func:`~homebench.imaging.projection.fold` of it. Sensor noise comes last,
-seeded by (noise seed, image kind) and never by the variant, so pixels that an added object
-does not touch are bit-identical between variants.
+the raw image is :func:`~homebench.imaging.projection.fold` of it. Both pass through one
+capture of the world's camera (:mod:`homebench.data.synth.camera`): optics on the cast
+panorama, one exposure per pose, then a sensor read-out per image kind whose noise is seeded
+by (noise seed, image kind) and never by the variant. With a fixed exposure, pixels that an
+added object does not touch (nor, under an open sky with sun, shade) are therefore
+bit-identical between variants; with auto-exposure
+(the default) an added object changes the metered light, hence every pixel slightly, as in a
+real camera.
 """
 
 from __future__ import annotations
@@ -22,14 +27,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.data.synth.atlas import LEVELS, Atlas, layout
-from homebench.data.synth.layout import base_scene, variant_objects
-from homebench.data.synth.lighting import LIGHTINGS, radiance, sun_direction
+from homebench.data.synth.camera import Camera, Exposure
+from homebench.data.synth.layout import variant_objects
+from homebench.data.synth.lighting import radiance, sun_direction
 from homebench.data.synth.raycast import Hits, cast
 from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene
-from homebench.data.synth.spec import WorldSpec
+from homebench.data.synth.spec import Style, WorldSpec
+from homebench.data.synth.styles import style
 from homebench.errors import HomebenchError
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
-from homebench.imaging.projection import fold, fold_labels, frontmost
+from homebench.imaging.projection import fold, fold_labels, frontmost, tangential_prefilter
 
 #: Rows and columns of the cast panorama per unfolded pixel.
 SUPERSAMPLE = 4
@@ -86,7 +93,7 @@ class World:
 
     def __init__(self, spec: WorldSpec, scene: Scene, n_base_objects: int):
         self.spec, self.scene = spec, scene
-        self.lighting = LIGHTINGS[spec.variant]
+        self.lighting = style(spec.style).lightings[spec.variant]
         self.raw_geometry = spec.raw.geometry()
         self.unfolded_geometry = spec.unfolded.geometry()
         self.panorama_geometry, self._rows = supersampled_geometry(
@@ -96,11 +103,13 @@ class World:
         self.regions, shape = layout(
             [s.albedo.shape for s in surfaces],
             [s.scale for s in surfaces],
-            n_base=3 + 3 * n_base_objects,
+            n_base=len(scene.room_surfaces()) + 3 * n_base_objects,
         )
-        sun = sun_direction(scene, spec.seed)
-        lit = [radiance(s, scene, self.lighting, sun) for s in surfaces]
+        sun = sun_direction(scene, self.lighting, spec.seed)
+        gain = np.float32(spec.light_gain)
+        lit = [radiance(s, scene, self.lighting, sun) * gain for s in surfaces]
         self.atlas = Atlas(lit, self.regions, shape)
+        self.camera = Camera(spec.camera, self.panorama_geometry, self.raw_geometry)
         self._annulus = self.raw_geometry.annulus_mask()
 
     # ------------------------------------------------------------------ rendering
@@ -124,12 +133,17 @@ class World:
     def panorama(self, pose: Pose) -> tuple[NDArray[np.float32], Hits]:
         """Noise-free radiance (grey levels, unclipped) of the cast panorama and its ray hits.
 
-        Shapes (height, width) of :attr:`panorama_geometry`.
+        Shapes (height, width) of :attr:`panorama_geometry`. Each pixel's mip level is log2 of
+        the texels its footprint covers: distance x pixel angle x the density of the texture
+        hit, over the cosine of incidence (floored at 0.15).
         """
         hits = self._cast(pose)
         g = self.panorama_geometry
         pixel_angle = max(g.row_step, g.column_step)
+        # texels per pixel: distance x pixel angle x the hit texture's own density, written so
+        # that a texture of exactly TEXELS_PER_METRE gives the same floats as a fixed density
         footprint = hits.rho / _cos_rows(g) * np.float32(pixel_angle * TEXELS_PER_METRE)
+        footprint *= hits.density / np.float32(TEXELS_PER_METRE)
         footprint /= np.maximum(hits.cos_incidence, np.float32(0.15))
         level = np.clip(np.log2(np.maximum(footprint, 1.0)), 0, LEVELS - 1)
         return self.atlas.sample(hits.x, hits.y, level), hits
@@ -146,25 +160,35 @@ class World:
         g = self.unfolded_geometry
         return cv2.resize(crop, (g.width, g.height), interpolation=cv2.INTER_AREA)
 
+    def capture(self, pose: Pose) -> tuple[NDArray[np.float32], Exposure]:
+        """The radiance reaching the sensor at ``pose`` (after the optics; shape of
+        :attr:`panorama_geometry`) and the exposure the camera chooses for it."""
+        seen = self.camera.optics(self.panorama(pose)[0])
+        return seen, self.camera.meter(seen)
+
+    def _fold(self, panorama: NDArray[np.float32]) -> NDArray[np.float32]:
+        """The raw image of a cast panorama: anti-aliased along the mirror's circles, folded."""
+        pano, raw = self.panorama_geometry, self.raw_geometry
+        filtered = tangential_prefilter(panorama, pano, raw, RAW_SUPERSAMPLE)
+        return fold(filtered, pano, raw, RAW_SUPERSAMPLE)
+
     def render(self, pose: Pose, noise_seed: int | None) -> dict[str, NDArray[np.uint8]]:
         """Grey images of ``pose``: "raw" (raw.height, raw.width) and "unfolded"
         (unfolded.height, unfolded.width). ``noise_seed=None`` renders without sensor noise."""
-        hi, _ = self.panorama(pose)
-        images = {
-            "raw": fold(hi, self.panorama_geometry, self.raw_geometry, RAW_SUPERSAMPLE),
-            "unfolded": self.downsample(hi),
+        seen, exposure = self.capture(pose)
+        camera = self.camera
+        return {
+            "raw": camera.read_out(
+                self._fold(seen),
+                exposure,
+                noise_seed,
+                _KIND_STREAM["raw"],
+                self._annulus,
+            ),
+            "unfolded": camera.read_out(
+                self.downsample(seen), exposure, noise_seed, _KIND_STREAM["unfolded"]
+            ),
         }
-        return {kind: self._expose(image, kind, noise_seed) for kind, image in images.items()}
-
-    def _expose(self, image: NDArray[np.float32], kind: str, noise_seed: int | None) -> NDArray:
-        if noise_seed is not None:
-            sigma = self.spec.noise_sigma * self.lighting.noise_scale
-            rng = np.random.default_rng([noise_seed, _KIND_STREAM[kind]])
-            noise = rng.standard_normal(image.shape, dtype=np.float32) * np.float32(sigma)
-            if kind == "raw":
-                noise *= self._annulus
-            image = image + noise
-        return np.clip(np.rint(image), 0, 255).astype(np.uint8)
 
     def render_labels(self, pose: Pose) -> dict[str, NDArray[np.int32]]:
         """Object id seen at each pixel (0 = room surfaces); same keys and shapes as
@@ -186,6 +210,7 @@ class World:
         room = self.scene.room
         return {
             "seed": self.spec.seed,
+            "style": self.spec.style,
             "variant": self.spec.variant,
             "room": {"width": room.width, "depth": room.depth, "height": room.height},
             "camera_height": self.spec.camera_height,
@@ -212,8 +237,8 @@ def _cos_rows(geometry: PanoramaGeometry) -> NDArray[np.float32]:
 
 
 @lru_cache(maxsize=4)
-def _base(seed: int, room: Room, grid: Grid) -> Scene:
-    return base_scene(seed, room, grid)
+def _base(style_name: Style, seed: int, room: Room, grid: Grid) -> Scene:
+    return style(style_name).build(seed, room, grid)
 
 
 def build_world(spec: WorldSpec) -> World:
@@ -222,9 +247,10 @@ def build_world(spec: WorldSpec) -> World:
     if key in _worlds:
         _worlds.move_to_end(key)
         return _worlds[key]
-    room = Room(spec.room.width, spec.room.depth, spec.room.height)
+    extent = spec.room_extent
+    room = Room(extent.width, extent.depth, extent.height)
     grid = spec.to_grid()
-    base = _base(spec.seed, room, grid)
+    base = _base(spec.style, spec.seed, room, grid)
     extra = variant_objects(spec.variant, spec.seed, base, grid, spec.camera_height)
     world = World(spec, base.with_objects(extra), len(base.objects))
     _worlds[key] = world
