@@ -44,7 +44,7 @@ class FakeRenderer:
         }
 
     def ground_truth(self, spec: WorldSpec) -> dict[str, Any]:
-        return {"room": [spec.room.width, spec.room.depth], "objects": []}
+        return {"room": [spec.room_extent.width, spec.room_extent.depth], "objects": []}
 
 
 class FailingRenderer(FakeRenderer):

@@ -63,10 +63,38 @@ def test_extra_files_are_warnings_not_errors(generated: Path) -> None:
     (generated / "raw" / "7_7.png").write_bytes(b"x")
     report = verify(generated)
     assert report.warnings == (
-        "notes.txt: unrelated file",
-        "raw/7_7.png: raw image of grid position (7, 7), outside the grid",
+        f"{generated}: 1 unrelated files: notes.txt",
+        f"{generated}: 1 raw images of positions outside the grid: raw/7_7.png",
     )
     assert len(report.checked) == 24
+
+
+def test_many_extra_files_make_one_summary_line(generated: Path) -> None:
+    for k in range(130):
+        (generated / f"thumb_{k:03d}.jpg").write_bytes(b"x")
+    (report_line,) = verify(generated).warnings
+    assert "130 unrelated files: thumb_000.jpg, thumb_001.jpg, thumb_002.jpg and 127 more" in (
+        report_line
+    )
+
+
+def test_bytes_that_differ_within_the_fingerprint_tolerance_are_reported_not_failed(
+    generated: Path,
+) -> None:
+    """Another processor's rounding: a few pixels one grey level off. The sha256 differs, the
+    content fingerprint matches: within tolerance. Content that really differs fails."""
+    from homebench.fileio import read_grey
+
+    path = generated / "unfolded" / "1_2.png"
+    image = read_grey(path)
+    flipped = image.copy().ravel()
+    flipped[::997] = np.clip(flipped[::997].astype(int) + 1, 0, 255)
+    write_png(path, flipped.reshape(image.shape))
+    report = verify(generated)
+    assert report.within_tolerance == ("unfolded/1_2.png",) and len(report.checked) == 24
+    write_png(path, np.roll(image, 5, axis=1))  # the same content, turned 5 columns
+    with pytest.raises(ChecksumMismatchError, match="1_2.png"):
+        verify(generated)
 
 
 def test_missing_images_are_named(generated: Path) -> None:
@@ -93,7 +121,7 @@ def test_user_database_without_sums_verifies_as_unchecked(tmp_path: Path) -> Non
     assert report.unchecked == tuple(
         f"pano/img-{i:03d}-{j:03d}.png" for i in range(3) for j in range(2)
     )
-    assert report.warnings == ("README: unrelated file",)
+    assert report.warnings == (f"{root}: 1 unrelated files: README",)
 
 
 def test_unknown_sums_still_get_decoded_and_size_checked(tmp_path: Path) -> None:

@@ -21,6 +21,7 @@ import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 from numpy.typing import NDArray
 
+from homebench.data.fingerprint import fingerprint
 from homebench.data.manifest import (
     SCHEMA_VERSION,
     CatadioptricSection,
@@ -89,12 +90,14 @@ def manifest_for_spec(
     name: str,
     description: str = "",
     files: dict[str, dict[str, str | None]] | None = None,
+    fingerprints: dict[str, dict[str, str]] | None = None,
 ) -> Manifest:
     """The manifest of a generated set: grid, heading and cameras from ``spec``.
 
-    ``files`` maps kind -> file name -> sha256 (or None); omitted kinds list no files.
+    ``files`` maps kind -> file name -> sha256 (or None), ``fingerprints`` kind -> file name ->
+    content fingerprint; omitted kinds list no files.
     """
-    files = files or {}
+    files, fingerprints = files or {}, fingerprints or {}
     g = spec.to_grid()
     raw, unfolded = spec.raw.geometry(), spec.unfolded.geometry()
     return Manifest(
@@ -111,6 +114,7 @@ def manifest_for_spec(
                 size=(raw.width, raw.height),
                 catadioptric=CatadioptricSection.from_geometry(raw),
                 files=files.get("raw", {}),
+                fingerprints=fingerprints.get("raw", {}),
             ),
             unfolded=UnfoldedImages(
                 folder="unfolded",
@@ -119,6 +123,7 @@ def manifest_for_spec(
                 size=(unfolded.width, unfolded.height),
                 panorama=PanoramaSection.from_geometry(unfolded),
                 files=files.get("unfolded", {}),
+                fingerprints=fingerprints.get("unfolded", {}),
             ),
         ),
         generator=Generator(spec=spec, key=spec.key()),
@@ -195,20 +200,23 @@ def _build(
     n_jobs = effective_n_jobs(jobs)
     batches = _split(positions, n_jobs * BATCHES_PER_JOB if n_jobs > 1 else 1)
     files: dict[str, dict[str, str | None]] = {"raw": {}, "unfolded": {}}
+    prints: dict[str, dict[str, str]] = {"raw": {}, "unfolded": {}}
     done = 0
     results = Parallel(n_jobs=n_jobs, return_as="generator")(
         delayed(_render_batch)(renderer, spec, folder, batch, n_jobs > 1) for batch in batches
     )
-    for batch, sums in zip(batches, results, strict=True):
-        for kind, file_name, digest in sums:
+    for batch, written in zip(batches, results, strict=True):
+        for kind, file_name, digest, content in written:
             files[kind][file_name] = digest
+            prints[kind][file_name] = content
         done += len(batch)
         if progress is not None:
             progress(done, len(positions))
     files = {kind: dict(sorted(names.items())) for kind, names in files.items()}
+    prints = {kind: dict(sorted(names.items())) for kind, names in prints.items()}
     truth = _ground_truth(spec, renderer)
     write_text_atomic(folder / GROUND_TRUTH_NAME, json.dumps(truth, indent=1, sort_keys=True))
-    manifest = manifest_for_spec(spec, name, description, files)
+    manifest = manifest_for_spec(spec, name, description, files, prints)
     write_text_atomic(folder / MANIFEST_NAME, manifest.to_yaml())
 
 
@@ -224,8 +232,9 @@ def _render_batch(
     folder: Path,
     positions: list[tuple[int, int]],
     in_worker: bool,
-) -> list[tuple[str, str, str]]:
-    """Render and write ``positions``; return (kind, file name, sha256) per file written."""
+) -> list[tuple[str, str, str, str]]:
+    """Render and write ``positions``; return (kind, file name, sha256, fingerprint) per file
+    written."""
     if in_worker:
         cv2.setNumThreads(1)  # the workers already use every core
     expected = {
@@ -245,7 +254,8 @@ def _render_batch(
             data = encode_png(image)
             file_name = IMAGE_PATTERN.format(x=i, y=j)
             write_bytes_atomic(folder / kind / file_name, data)
-            written.append((kind, file_name, hashlib.sha256(data).hexdigest()))
+            digest = hashlib.sha256(data).hexdigest()
+            written.append((kind, file_name, digest, fingerprint(image)))
     return written
 
 

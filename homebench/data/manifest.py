@@ -28,17 +28,28 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
+from homebench.image_header import MAX_IMAGE_PIXELS
 from homebench.methods.base import ImageKind
 from homebench.yamlio import load_model, parse_model
 
 SCHEMA_VERSION = 1
 KINDS: tuple[ImageKind, ...] = ("raw", "unfolded")
+#: Most grid positions of one database (1000 x 1000; Vardy's sets have 170): every position is
+#: looked at when a database is checked, so the grid bounds the work a manifest can ask for.
+MAX_GRID_POSITIONS = 1_000_000
+#: Widest index field of a file name pattern ({x:09d}). A width is memory: {x:>2000000000} made
+#: a 2 GB file name; grid indices (below MAX_GRID_POSITIONS) never need more than 7 digits.
+MAX_FIELD_WIDTH = 9
+#: The format spec of an index field: empty or "d", with a width 1..MAX_FIELD_WIDTH, optionally
+#: zero-padded ({x}, {x:d}, {x:3}, {x:03d}); no fill, alignment, sign, precision or type.
+_INDEX_SPEC = re.compile(rf"(0?[1-{MAX_FIELD_WIDTH}])?d?")
 
 # YAML gives lists; tuples accept them (the items stay strict).
 IntPair = Annotated[tuple[int, int], Field(strict=False)]
 FloatPair = Annotated[tuple[float, float], Field(strict=False)]
 FloatSeq = Annotated[tuple[float, ...], Field(strict=False, min_length=2)]
 Sha256 = Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")]
+Fingerprint = Annotated[str, Field(pattern=r"^[0-9]{1,9}:[0-9]{1,9}:[0-9a-f]{66}$")]
 Name = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")]
 Direction = Literal["ccw", "cw"]
 
@@ -50,9 +61,37 @@ class _Strict(BaseModel):
 def _relative_posix(value: str, what: str) -> str:
     """Check that ``value`` is a relative path inside the database root; return it normalised."""
     norm = posixpath.normpath(value)
-    if value.startswith("/") or "\\" in value or norm == ".." or norm.startswith("../"):
+    if (
+        value.startswith("/")
+        or _has_control_or_backslash(value)
+        or norm == ".."
+        or norm.startswith("../")
+    ):
         raise ValueError(f"{what} must be a relative path inside the database folder: {value!r}")
     return norm
+
+
+def _has_control_or_backslash(text: str) -> bool:
+    return "\\" in text or any(ord(c) < 32 or ord(c) == 127 for c in text)
+
+
+def _outside_problem(name: str) -> str | None:
+    """Why the relative file name ``name`` might not stay inside its folder, or None.
+
+    A safe name has no control character or backslash and no empty, "." or ".." component, so
+    that joining it to a folder and normalising the result never leaves the folder.
+    """
+    if _has_control_or_backslash(name):
+        return "has a control character or a backslash"
+    if any(part in ("", ".", "..") for part in name.split("/")):
+        return "has an empty, '.' or '..' path component (or starts with '/')"
+    return None
+
+
+def _field_text(field: str, spec: str, conversion: str | None) -> str:
+    """A replacement field as written in a pattern: {x!s:.0}."""
+    conversion = f"!{conversion}" if conversion else ""
+    return f"{{{field}{conversion}{':' if spec else ''}{spec}}}"
 
 
 class Source(_Strict):
@@ -75,6 +114,11 @@ class GridSection(_Strict):
     def _positive(cls, shape: tuple[int, int]) -> tuple[int, int]:
         if min(shape) < 1:
             raise ValueError(f"grid shape must be at least [1, 1], got {list(shape)}")
+        if shape[0] * shape[1] > MAX_GRID_POSITIONS:
+            raise ValueError(
+                f"grid shape {list(shape)} has {shape[0] * shape[1]:,} positions; "
+                f"at most {MAX_GRID_POSITIONS:,} positions are allowed"
+            )
         return shape
 
     def to_grid(self) -> Grid:
@@ -150,9 +194,13 @@ class ImageSection(_Strict):
 
     Files are ``folder``/``pattern`` per grid position, all of one ``size`` [width, height].
 
-    ``pattern`` has the fields {x} and {y} (the grid index, format specs such as {x:02d}
-    allowed) and optionally {ext}, tried in the order of ``extensions``. ``files`` maps file
-    names (relative to ``folder``) to their sha256, or null where unknown.
+    ``pattern`` has the fields {x} and {y} (the grid index, with at most a width, optionally
+    zero-padded: {x:02d}, {x:3}) and optionally {ext} (no spec), tried in the order of
+    ``extensions``; it may name subfolders ("row{y}/{x}.png") but never a '.', '..' or empty
+    component, so that no file name it makes can leave ``folder``. ``files`` maps file names
+    (relative to ``folder``) to their sha256, or null where unknown; ``fingerprints`` (optional,
+    written for generated sets) to their content fingerprint, which a file made on another
+    processor must match where its bytes differ (:mod:`homebench.data.fingerprint`).
     """
 
     folder: str = "."
@@ -160,6 +208,7 @@ class ImageSection(_Strict):
     extensions: Annotated[tuple[str, ...], Field(strict=False, min_length=1)] = ("png",)
     size: IntPair
     files: dict[str, Sha256 | None] = {}
+    fingerprints: dict[str, Fingerprint] = {}
 
     @field_validator("folder")
     @classmethod
@@ -178,15 +227,29 @@ class ImageSection(_Strict):
     @classmethod
     def _pattern_fields(cls, pattern: str) -> str:
         try:
-            fields = {f for _, f, _, _ in string.Formatter().parse(pattern) if f is not None}
-            pattern.format(x=0, y=0, ext="png")
-        except (ValueError, KeyError, IndexError) as error:
+            parts = list(string.Formatter().parse(pattern))
+        except ValueError as error:
             raise ValueError(
                 f"pattern {pattern!r} is not a valid file name pattern: {error}"
             ) from None
+        fields = {field for _, field, _, _ in parts if field is not None}
         if not {"x", "y"} <= fields or not fields <= {"x", "y", "ext"}:
             raise ValueError(f"pattern {pattern!r} must use {{x}} and {{y}}, and may use {{ext}}")
-        _relative_posix(pattern, "pattern")
+        for _, field, spec, conversion in parts:
+            if field is None:
+                continue
+            plain = conversion is None and (
+                _INDEX_SPEC.fullmatch(spec) if field != "ext" else spec == ""
+            )
+            if not plain:
+                raise ValueError(
+                    f"pattern {pattern!r}: {_field_text(field, spec, conversion)} is not allowed; "
+                    f"use {{x}} and {{y}}, with at most a width of 1 to {MAX_FIELD_WIDTH} "
+                    "(zero-padded as in {x:02d}), and {ext}"
+                )
+        problem = _outside_problem(pattern)
+        if problem is not None:
+            raise ValueError(f"pattern {pattern!r} {problem}")
         return pattern
 
     @field_validator("size")
@@ -194,13 +257,18 @@ class ImageSection(_Strict):
     def _positive_size(cls, size: tuple[int, int]) -> tuple[int, int]:
         if min(size) < 1:
             raise ValueError(f"image size [width, height] must be positive, got {list(size)}")
+        if size[0] * size[1] > MAX_IMAGE_PIXELS:
+            raise ValueError(
+                f"image size {list(size)} has more than the {MAX_IMAGE_PIXELS:,} pixels allowed"
+            )
         return size
 
     @model_validator(mode="after")
     def _files_match_pattern(self) -> ImageSection:
-        for name in self.files:
-            if self.parse_name(name) is None:
-                raise ValueError(f"files: {name!r} does not match the pattern {self.pattern!r}")
+        for key, names in (("files", self.files), ("fingerprints", self.fingerprints)):
+            for name in names:
+                if self.parse_name(name) is None:
+                    raise ValueError(f"{key}: {name!r} does not match the pattern {self.pattern!r}")
         return self
 
     @property
@@ -208,10 +276,21 @@ class ImageSection(_Strict):
         return any(f == "ext" for _, f, _, _ in string.Formatter().parse(self.pattern))
 
     def file_names(self, i: int, j: int) -> list[str]:
-        """Candidate file names (relative to ``folder``) of grid position (i, j), in order."""
-        if not self.uses_ext:
-            return [self.pattern.format(x=i, y=j)]
-        return [self.pattern.format(x=i, y=j, ext=ext) for ext in self.extensions]
+        """Candidate file names (relative to ``folder``) of grid position (i, j), in order.
+
+        Each name is checked to stay inside ``folder`` (DataError otherwise), whatever the
+        pattern: validation already guarantees it, this makes sure of it where files are named.
+        """
+        extensions = self.extensions if self.uses_ext else self.extensions[:1]
+        names = [self.pattern.format(x=i, y=j, ext=ext) for ext in extensions]
+        for name in names:
+            problem = _outside_problem(name)
+            if problem is not None:
+                raise DataError(
+                    f"{name!r} (pattern {self.pattern!r}) {problem}: it could lie outside "
+                    f"the folder {self.folder!r}"
+                )
+        return names
 
     def relative_path(self, name: str) -> str:
         """Path relative to the database root of a file ``name`` of this section."""
@@ -219,13 +298,15 @@ class ImageSection(_Strict):
 
     def parse_name(self, name: str) -> tuple[int, int] | None:
         """Grid index named by a file ``name`` (relative to ``folder``), or None."""
-        parts = []
+        parts, named = [], set()
         for literal, field, _, _ in string.Formatter().parse(self.pattern):
             parts.append(re.escape(literal))
-            if field in ("x", "y"):
-                parts.append(rf"(?P<{field}>\d+)")
-            elif field == "ext":
-                parts.append("(?P<ext>" + "|".join(map(re.escape, self.extensions)) + ")")
+            if field is None:
+                continue
+            value = r" *\d+" if field != "ext" else "|".join(map(re.escape, self.extensions))
+            group = f"?P<{field}>" if field not in named else "?:"  # repeats: checked below
+            parts.append(f"({group}{value})")
+            named.add(field)
         m = re.fullmatch("".join(parts), name)
         if m is None:
             return None
@@ -324,9 +405,10 @@ class Manifest(_Strict):
                 raise ValueError(f"headings_deg: {key!r} is outside the {_shape(grid)} grid")
         for kind in self.kinds:
             section = self.section(kind)
-            for name in section.files:
-                if not grid.contains(*section.parse_name(name)):
-                    raise ValueError(f"images.{kind}.files: {name!r} is outside the grid")
+            for key, names in (("files", section.files), ("fingerprints", section.fingerprints)):
+                for name in names:
+                    if not grid.contains(*section.parse_name(name)):
+                        raise ValueError(f"images.{kind}.{key}: {name!r} is outside the grid")
         if self.generator is not None:
             self._check_generator(self.generator.spec)
         elif self.ground_truth is not None:
@@ -381,7 +463,10 @@ class Manifest(_Strict):
         """The manifest as YAML, keys in schema order, short lists inline."""
         data = self.model_dump(mode="json", by_alias=True, exclude_none=True)
         for section in data["images"].values():
-            section["files"] = section.pop("files")  # the long list last, after the camera
+            section["files"] = section.pop("files")  # the long lists last, after the camera
+            fingerprints = section.pop("fingerprints")
+            if fingerprints:
+                section["fingerprints"] = fingerprints
         if self.generator is not None:  # every spec field, None included: the spec is exact
             data["generator"]["spec"] = self.generator.spec.model_dump(mode="json")
         return yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=100)

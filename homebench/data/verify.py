@@ -2,7 +2,13 @@
 
 :func:`verify` raises the first kind of problem it finds (missing images, sha256 mismatches,
 unreadable or wrongly sized images, unreadable ground truth) and otherwise returns a report of
-what it checked, what it could not check (no known sum) and warnings (unrelated files).
+what it checked, what it could not check (no known sum) and warnings (unrelated files, one line
+per kind of file).
+
+A file whose sha256 differs from the manifest's but whose content fingerprint matches the
+manifest's (generated sets record both) is **within tolerance**: the same image rendered on a
+processor whose floating point rounds differently (:mod:`homebench.data.fingerprint`). It is
+reported as such, not as an error.
 """
 
 from __future__ import annotations
@@ -12,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from homebench.data.database import GridDatabase
+from homebench.data.fingerprint import fingerprint, matches
 from homebench.data.generate import MANIFEST_NAME, is_generated
 from homebench.data.manifest import Manifest, load_manifest
 from homebench.errors import ChecksumMismatchError, DataError
@@ -27,6 +34,7 @@ class VerifyReport:
     checked: tuple[str, ...]
     unchecked: tuple[str, ...]
     warnings: tuple[str, ...]
+    within_tolerance: tuple[str, ...] = ()
 
     @property
     def n_images(self) -> int:
@@ -57,7 +65,7 @@ def verify(
     """
     db = _database(database_or_folder, manifest)
     files = layout_files(db)
-    checked, unchecked, warnings, mismatches = [], [], [], []
+    checked, unchecked, warnings, mismatches, tolerated = [], [], [], [], []
     for kind, names in files.items():
         section = db.manifest.section(kind)
         for name, path in names.items():
@@ -68,7 +76,10 @@ def verify(
                 continue
             found = sha256_file(path)
             if found != expected:
-                mismatches.append((path, expected, found))
+                if _same_content(db, kind, name):
+                    tolerated.append(relative)
+                else:
+                    mismatches.append((path, expected, found))
             checked.append(relative)
         for name in sorted(set(section.files) - set(names)):
             warnings.append(f"{section.relative_path(name)}: listed in the manifest, not used")
@@ -87,8 +98,24 @@ def verify(
         )
     known = {p.relative_to(db.root).as_posix() for names in files.values() for p in names.values()}
     known |= {MANIFEST_NAME, db.manifest.ground_truth}
-    warnings += [_extra_file_warning(db, rel) for rel in _all_files(db.root) if rel not in known]
-    return VerifyReport(db.name, db.root, tuple(checked), tuple(unchecked), tuple(warnings))
+    warnings += _extra_file_warnings(db, [rel for rel in _all_files(db.root) if rel not in known])
+    return VerifyReport(
+        db.name, db.root, tuple(checked), tuple(unchecked), tuple(warnings), tuple(tolerated)
+    )
+
+
+def _same_content(db: GridDatabase, kind: str, name: str) -> bool:
+    """Whether file ``name`` of ``kind`` matches its manifest fingerprint (False when the
+    manifest has none or the file cannot be decoded)."""
+    section = db.manifest.section(kind)
+    reference = section.fingerprints.get(name)
+    if reference is None:
+        return False
+    try:
+        image = db.image(*section.parse_name(name), kind)
+    except DataError:
+        return False
+    return matches(fingerprint(image), reference)
 
 
 def _database(
@@ -115,16 +142,29 @@ def _all_files(root: Path) -> list[str]:
     return sorted(found)
 
 
-def _extra_file_warning(db: GridDatabase, relative: str) -> str:
-    for kind in db.kinds:
-        position = db.manifest.section(kind).parse_path(relative)
-        if position is not None:
-            return f"{relative}: {kind} image of grid position {position}, outside the grid"
-    return f"{relative}: unrelated file"
+#: Files named in a summary warning before "and N more".
+_SHOWN = 3
+
+
+def _extra_file_warnings(db: GridDatabase, extra: list[str]) -> list[str]:
+    """One warning per kind of file the manifest does not know: images of positions outside
+    the grid (per image kind), and unrelated files; each with a count and a few names."""
+    groups: dict[str, list[str]] = {}
+    for relative in extra:
+        kind = next((k for k in db.kinds if db.manifest.section(k).parse_path(relative)), None)
+        what = f"{kind} images of positions outside the grid" if kind else "unrelated files"
+        groups.setdefault(what, []).append(relative)
+    warnings = []
+    for what, names in groups.items():
+        shown = ", ".join(names[:_SHOWN])
+        more = f" and {len(names) - _SHOWN} more" if len(names) > _SHOWN else ""
+        warnings.append(f"{db.root}: {len(names)} {what}: {shown}{more}")
+    return warnings
 
 
 def record_sums(manifest_path: Path, root: Path) -> Manifest:
-    """Rewrite ``manifest_path``'s ``files`` sections with the sha256 of the images in ``root``.
+    """Rewrite ``manifest_path``'s ``files`` and ``fingerprints`` with the sha256 and the
+    content fingerprint of the images in ``root``.
 
     For a generated set ``root`` must hold a finished generation of the manifest's spec; the
     manifest's ``generator.key`` is set to the spec's current key. Comments in the file are
@@ -134,10 +174,15 @@ def record_sums(manifest_path: Path, root: Path) -> Manifest:
     manifest = load_manifest(manifest_path)
     if manifest.generator is not None and not is_generated(root, manifest.generator.spec):
         raise DataError(f"{root}: not a finished generation of {manifest_path}'s spec")
-    files = layout_files(GridDatabase(manifest, root))
+    db = GridDatabase(manifest, root)
+    files = layout_files(db)
     data = manifest.model_dump(by_alias=True)
     for kind, names in files.items():
+        section = manifest.section(kind)
         data["images"][kind]["files"] = {n: sha256_file(p) for n, p in sorted(names.items())}
+        data["images"][kind]["fingerprints"] = {
+            n: fingerprint(db.image(*section.parse_name(n), kind)) for n in sorted(names)
+        }
     if manifest.generator is not None:
         data["generator"]["key"] = manifest.generator.spec.key()
     updated = Manifest.model_validate(data)
