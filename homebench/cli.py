@@ -1,14 +1,17 @@
 """The homebench command line: parse, call the library, print. No logic lives here.
 
 Exit codes: 0 success; 1 a crash (a bug: full traceback with ``--debug``) or failed jobs;
-2 a usage, config or data error (one line naming the file or key); 3 a failed ``--check``
-threshold (a regression, not a crash).
+2 a usage, config or data error, or a file the operating system refuses (one line naming the
+file or key); 3 a failed ``--check`` threshold (a regression, not a crash).
 """
 
 from __future__ import annotations
 
+import errno
 import math
+import os
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +26,9 @@ EXIT_CHECK = 3
 
 
 class _Group(click.Group):
-    """Turns HomebenchError into one line and exit 2, any other exception into exit 1."""
+    """Turns HomebenchError into one line and exit 2, and so an OSError (a run folder that is a
+    file, a read-only disk, a symbolic link loop: the system refused, homebench has no bug);
+    any other exception is a crash, exit 1. A broken pipe is left to click."""
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
@@ -36,6 +41,11 @@ class _Group(click.Group):
             ctx.exit(EXIT_ERROR)
         except (click.exceptions.ClickException, click.exceptions.Exit, click.Abort):
             raise
+        except OSError as error:
+            if ctx.find_root().params.get("debug") or error.errno == errno.EPIPE:
+                raise
+            click.echo(f"homebench: error: {_os_error_line(error)}", err=True)
+            ctx.exit(EXIT_ERROR)
         except Exception as error:
             if ctx.find_root().params.get("debug"):
                 raise
@@ -45,6 +55,13 @@ class _Group(click.Group):
                 err=True,
             )
             ctx.exit(EXIT_CRASH)
+
+
+def _os_error_line(error: OSError) -> str:
+    """An OSError as one line naming its file(s): "/runs/x: Read-only file system"."""
+    files = " -> ".join(str(f) for f in (error.filename, error.filename2) if f is not None)
+    reason = error.strerror or " ".join(str(error).split())
+    return f"{files}: {reason}" if files else reason
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -108,9 +125,18 @@ def data_verify(database: str, path: Path | None) -> None:
     report = verify(resolve(database, path), manifest)
     for warning in report.warnings:
         click.echo(f"homebench: warning: {warning}", err=True)
+    tolerated = len(report.within_tolerance)
+    exact = len(report.checked) - tolerated
     click.echo(
-        f"{report.name}: {report.n_images} images OK in {report.root} "
-        f"({len(report.checked)} sha256 checked, {len(report.unchecked)} without a known sum)"
+        f"{report.name}: {report.n_images} images OK in {report.root} ({exact} sha256 "
+        f"identical, {len(report.unchecked)} without a known sum"
+        + (
+            f", {tolerated} differing in bytes but matching their content fingerprint: made on "
+            "a processor whose floating point rounds differently"
+            if tolerated
+            else ""
+        )
+        + ")"
     )
 
 
@@ -140,14 +166,19 @@ def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] |
 
 @main.command()
 def methods() -> None:
-    """List the registered homing methods with their parameters and defaults."""
+    """List the registered homing methods: each parameter's type, default and meaning, and
+    where it departs from (an opt-in option) or reads (an ambiguous passage of) the paper."""
     from homebench.methods import registry
+    from homebench.methods.params import method_listing
 
-    for name, cls in registry.available().items():
-        summary = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
-        click.echo(f"{name} ({cls.image_kind} images): {summary}")
-        for param, default in registry.parameters(name).items():
-            click.echo(f"    {param} = {default!r}")
+    try:
+        for name, cls in registry.available().items():
+            click.echo("\n".join(method_listing(name, cls)))
+        for name, reason in registry.broken().items():
+            click.echo(f"{name} (broken plugin): {reason}")
+        sys.stdout.flush()
+    except BrokenPipeError:  # `homebench methods | head`: the reader has all it wants
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
 
 
 def _format_summary(summary: Any) -> str:
@@ -169,13 +200,18 @@ def _format_summary(summary: Any) -> str:
 
 
 def _run_routes(
-    config_file: Path, jobs: int | None, force: bool, no_progress: bool, no_report: bool
+    config_file: Path,
+    overrides: Sequence[str],
+    jobs: int | None,
+    force: bool,
+    no_progress: bool,
+    no_report: bool,
 ) -> None:
     """``homebench run`` of a route-homing config (``kind: route``)."""
     from homebench.evaluation.route_homing import run_route_experiment
     from homebench.route_config import load_route_config
 
-    config = load_route_config(config_file)
+    config = load_route_config(config_file, overrides)
     outcome = run_route_experiment(
         config, config_file, jobs=jobs, force=force, show_progress=not no_progress
     )
@@ -195,6 +231,37 @@ def _run_routes(
         sys.exit(EXIT_CRASH)
 
 
+def _report_failures(outcome: Any, pairs: Any) -> int:
+    """One stderr line per failed job and per job with failed pairs, one on how to retry; the
+    number of failed pairs."""
+    import pandas as pd
+
+    for failure in outcome.failures:
+        attempt = f" (attempt {failure.attempts})" if failure.attempts > 1 else ""
+        click.echo(
+            f"homebench: job {failure.kind} {failure.key} ({failure.job}) failed{attempt}: "
+            f"{failure.cause}",
+            err=True,
+        )
+    failed = pairs[pairs["error"].notna()] if "error" in pairs else pd.DataFrame()
+    if not failed.empty:
+        goals = ["seed", "method", "condition", "goal_i", "goal_j"]
+        for (seed, method, condition, i, j), group in failed.groupby(goals, dropna=False):
+            swept = "" if pd.isna(seed) else f", seed {seed}"
+            click.echo(
+                f"homebench: job ({method}, {condition}, goal ({i}, {j}){swept}): {len(group)} "
+                f"pair(s) failed: {group['error'].iloc[0]} (the pairs table holds every error)",
+                err=True,
+            )
+    if not failed.empty or any(failure.kind == "home" for failure in outcome.failures):
+        click.echo(
+            "homebench: failed jobs are recorded in the run folder's failures/ and not run "
+            "again; rerun with --retry-failed to retry them (and the jobs of failed pairs)",
+            err=True,
+        )
+    return len(failed)
+
+
 def _parse_shard(
     ctx: click.Context, param: click.Parameter, value: str | None
 ) -> tuple[int, int] | None:
@@ -209,13 +276,30 @@ def _parse_shard(
 
 @main.command()
 @click.argument("config_file", type=click.Path(path_type=Path))
+@click.argument("overrides", nargs=-1, metavar="[KEY=VALUE]...")
 @click.option("--jobs", "-j", type=int, help="Parallel workers (overrides the config; -1 all).")
-@click.option("--force", is_flag=True, help="Recompute every job, even finished ones.")
+@click.option(
+    "--force", is_flag=True,
+    help="Recompute every job, even finished ones; replaces another config's run in the folder.",
+)  # fmt: skip
+@click.option(
+    "--update", is_flag=True,
+    help="Make a folder holding another config's run this config's run, keeping every result "
+    "whose job is unchanged (after editing a parameter, say).",
+)  # fmt: skip
+@click.option(
+    "--retry-failed", is_flag=True,
+    help="Run jobs that failed before again (a plain rerun only reports them).",
+)  # fmt: skip
+@click.option(
+    "--timeout", type=click.FloatRange(min=0, min_open=True), metavar="SECONDS",
+    help="A job running longer fails (overrides the config's job_timeout_s).",
+)  # fmt: skip
 @click.option("--no-progress", is_flag=True, help="Hide the progress bars.")
 @click.option("--no-report", is_flag=True, help="Skip the PDF report (tables are still written).")
 @click.option(
     "--backend", type=click.Choice(["local", "dask"]), default="local", show_default=True,
-    help="local: joblib workers on this machine; dask: a Dask cluster (see --scheduler).",
+    help="local: isolated workers on this machine; dask: a Dask cluster (see --scheduler).",
 )  # fmt: skip
 @click.option("--scheduler", help="Address of a running Dask scheduler (default: local cluster).")
 @click.option(
@@ -227,8 +311,12 @@ def _parse_shard(
 )
 def run(
     config_file: Path,
+    overrides: tuple[str, ...],
     jobs: int | None,
     force: bool,
+    update: bool,
+    retry_failed: bool,
+    timeout: float | None,
     no_progress: bool,
     no_report: bool,
     backend: str,
@@ -236,47 +324,75 @@ def run(
     shard: tuple[int, int] | None,
     check: bool,
 ) -> None:
-    """Run the benchmark described by CONFIG_FILE; resumes an interrupted run."""
+    """Run the benchmark described by CONFIG_FILE; resumes an interrupted run.
+
+    KEY=VALUE settings override the config's (a dotted key path, list items by index, a YAML
+    value): methods.0.params.ratio=0.7 goals=all output=runs/other. The resolved config in the
+    run folder shows the values used; environment.json lists the overrides.
+
+    A job that fails (raises, crashes, hangs past the timeout, runs out of memory) is recorded
+    in the run folder and reported; a plain rerun reports it again, --retry-failed reruns it.
+    """
     from homebench.config import config_kind, load_config
     from homebench.errors import ConfigError
     from homebench.evaluation.results import build_tables, write_tables
     from homebench.evaluation.runner import Execution, run_plan
 
-    if config_kind(config_file) == "route":
-        if backend != "local" or shard is not None or check:
-            raise ConfigError("--backend dask, --shard and --check are for grid runs, not routes")
-        _run_routes(config_file, jobs, force, no_progress, no_report)
+    if config_kind(config_file, overrides) == "route":
+        grid_only = (
+            backend != "local" or shard is not None or check or retry_failed or timeout or update
+        )
+        if grid_only:
+            raise ConfigError(
+                "--backend dask, --shard, --check, --retry-failed and --timeout are for grid "
+                "runs, not routes"
+            )
+        _run_routes(config_file, overrides, jobs, force, no_progress, no_report)
         return
-    config = load_config(config_file)
+    config = load_config(config_file, overrides)
     execution = Execution(
         jobs=jobs if jobs is not None else config.jobs,
         backend=backend,
         scheduler=scheduler,
         shard=shard,
+        timeout_s=timeout if timeout is not None else config.job_timeout_s,
+        memory_mb=config.worker_memory_mb,
+        retry_failed=retry_failed,
     )
-    outcome = run_plan(config, config_file, execution, force=force, show_progress=not no_progress)
+    outcome = run_plan(
+        config,
+        config_file,
+        execution,
+        force=force,
+        update=update,
+        overrides=overrides,
+        show_progress=not no_progress,
+    )
+    for note in outcome.notes:
+        click.echo(f"homebench: note: {note}", err=True)
     tables = build_tables(outcome.run_dir, config.metrics)
     written = write_tables(tables, outcome.run_dir, config.table_format)
     if not tables.summary.empty:
         click.echo(_format_summary(tables.summary))
+    failed_jobs = sum(failure.kind == "home" for failure in outcome.failures)
+    failed = f", {failed_jobs} failed" if failed_jobs else ""
     click.echo(
-        f"{outcome.computed} job(s) computed, {outcome.reused} reused; "
+        f"{outcome.computed} job(s) computed, {outcome.reused} reused{failed}; "
         f"tables in {written[0].parent}"
     )
-    if tables.missing_jobs:
+    if outcome.pending:
         click.echo(
-            f"{len(tables.missing_jobs)} job(s) of the plan have no result here yet (other "
-            "shards?): their rows are not in the tables; rerun or `homebench report` once all "
-            "job files are in place"
+            f"{outcome.pending} job(s) of the plan have no result here yet (other shards?): "
+            "their rows are not in the tables; rerun or `homebench report` once all job files "
+            "are in place"
         )
     if not no_report and not tables.summary.empty:
         from homebench.report.document import write_report
 
         report_files = write_report(outcome.run_dir).files
         click.echo(f"report: {report_files[-1]}")
-    for failure in outcome.failures:
-        click.echo(f"homebench: job {failure.kind} {failure.key} failed: {failure.error}", err=True)
-    if outcome.failures:
+    failed_pairs = _report_failures(outcome, tables.pairs)
+    if outcome.failures or failed_pairs:
         sys.exit(EXIT_CRASH)
     if check:
         from homebench.evaluation.checks import failed_checks
@@ -330,4 +446,55 @@ def compare(run_dirs: tuple[Path, ...], out: Path | None) -> None:
     click.echo(to_markdown(comparison.view()))
     if out is not None:
         for path in write_views([comparison.view()], out):
+            click.echo(str(path))
+
+
+@main.command()
+@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option(
+    "--alpha",
+    type=click.FloatRange(0, 1, min_open=True, max_open=True),
+    default=0.05,
+    show_default=True,
+    help="Significance level of the verdicts.",
+)
+@click.option("--p", "p", default="P", show_default=True, help="Label of seed 001's method P.")
+@click.option("--pn", default="PN", show_default=True, help="Label of P without elimination.")
+@click.option("--w", "w", default="W", show_default=True, help="Label of the warping baseline.")
+@click.option(
+    "--original",
+    default="original-original",
+    show_default=True,
+    help="Condition of seed 001's Fig. 9a / 10a.",
+)
+@click.option(
+    "--arboreal", default="original-arboreal", show_default=True, help="Condition of Fig. 9b / 10b."
+)
+@click.option(
+    "--day", default="original-day", show_default=True, help="Condition of Fig. 9c / 10c."
+)
+@click.option("--out", type=click.Path(path_type=Path),
+              help="Folder for findings.csv, .md and .tex.")  # fmt: skip
+def findings(
+    run_dirs: tuple[Path, ...],
+    alpha: float,
+    p: str,
+    pn: str,
+    w: str,
+    original: str,
+    arboreal: str,
+    day: str,
+    out: Path | None,
+) -> None:
+    """Test the papers' findings on RUN_DIRS: seed 001's on grid runs, seed 000's on route
+    runs; each with its effect, 95 % interval, Holm-corrected p and verdict, per style."""
+    from homebench.evaluation.findings import SiftRoles
+    from homebench.report.findings_report import findings_of_runs, findings_view
+    from homebench.report.tables import to_markdown, write_views
+
+    roles = SiftRoles(p, pn, w, original, arboreal, day)
+    view = findings_view(findings_of_runs(run_dirs, roles, alpha), alpha)
+    click.echo(to_markdown(view))
+    if out is not None:
+        for path in write_views([view], out):
             click.echo(str(path))

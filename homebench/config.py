@@ -23,18 +23,21 @@ from __future__ import annotations
 import itertools
 import math
 import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from homebench.data.synth.spec import WorldSpec
+from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
 from homebench.yamlio import load_model, load_yaml_mapping
 
 ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
+#: A swept world: (style, seed), each None when not swept.
+SweptWorld = tuple[str | None, int | None]
 
 
 class _Strict(BaseModel):
@@ -170,9 +173,12 @@ class RunConfig(_Strict):
     output: Path
     seed: int = Field(0, ge=0)
     jobs: int = 1
+    job_timeout_s: float | None = Field(3600.0, gt=0)  # a job running longer fails; None: never
+    worker_memory_mb: int | None = Field(None, ge=1024)  # None: physical memory / workers
     databases: dict[str, DatabaseRef]
     conditions: list[str] | Literal["all"] = Field(min_length=1)
     seeds: list[int] = Field(default_factory=list)  # sweep the seed of every generated world
+    styles: list[Style] = Field(default_factory=list)  # sweep the style of every generated world
     goals: list[tuple[int, int]] | Literal["all"] | RandomGoals
     currents: Literal["all"] | CurrentRange = "all"
     methods: list[MethodEntry] = Field(min_length=1)
@@ -211,6 +217,13 @@ class RunConfig(_Strict):
     def _seeds(cls, value: list[int]) -> list[int]:
         if any(seed < 0 for seed in value) or len(set(value)) != len(value):
             raise ValueError("seeds must be distinct and non-negative")
+        return value
+
+    @field_validator("styles")
+    @classmethod
+    def _styles(cls, value: list[Style]) -> list[Style]:
+        if len(set(value)) != len(value):
+            raise ValueError("styles must be distinct")
         return value
 
     @model_validator(mode="after")
@@ -256,20 +269,22 @@ class RunConfig(_Strict):
             for label, params in entry.expand()
         ]
 
-    def world_seeds(self) -> list[int | None]:
-        """The seeds swept over (None: every database as configured)."""
-        return list(self.seeds) or [None]
+    def worlds(self) -> list[SweptWorld]:
+        """The (style, seed) of every swept world, styles outermost; None where the config
+        sweeps nothing (every generated database as configured)."""
+        return [(style, seed) for style in self.styles or [None] for seed in self.seeds or [None]]
 
 
-def config_kind(path: Path) -> str:
+def config_kind(path: Path, overrides: Sequence[str] = ()) -> str:
     """The experiment kind a config file declares: "route" (``kind: route``) or "grid"."""
-    data = load_yaml_mapping(path, what="config")
+    data = load_yaml_mapping(path, what="config", overrides=overrides)
     return "route" if data.get("kind") == "route" else "grid"
 
 
-def load_config(path: Path) -> RunConfig:
-    """Read and validate a run config; every problem is a ConfigError naming file and key."""
-    config = load_model(RunConfig, path, what="config")
+def load_config(path: Path, overrides: Sequence[str] = ()) -> RunConfig:
+    """Read and validate a run config with ``key.path=value`` ``overrides``; every problem is
+    a ConfigError naming file and key."""
+    config = load_model(RunConfig, path, what="config", overrides=overrides)
     for k, entry in enumerate(config.methods):
         for _, params in entry.expand():
             try:

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
 import yaml
+from conftest import write_arena_database
 
 from homebench.config import load_config
 from homebench.errors import ConfigError
@@ -80,3 +82,44 @@ def test_empty_and_missing_files(tmp_path: Path) -> None:
         load_config(_write(tmp_path, ""))
     with pytest.raises(ConfigError, match="no such config"):
         load_config(tmp_path / "absent.yaml")
+
+
+def test_overrides_set_keys_list_items_and_new_keys(tmp_path):
+    path = tmp_path / "c.yaml"
+    path.write_text(
+        yaml.safe_dump(
+            {
+                "output": "out",
+                "databases": {"a": "synth-original"},
+                "conditions": ["a-a"],
+                "goals": [[1, 1]],
+                "methods": [{"method": "sift"}, {"method": "warping"}],
+            }
+        )
+    )
+    config = load_config(
+        path, ["methods.0.params.ratio=0.7", "goals=all", "output=elsewhere", "seeds=[1, 2]"]
+    )
+    assert config.method_points()[0] == ("sift", "sift", {"ratio": 0.7})
+    assert config.goals == "all" and str(config.output) == "elsewhere" and config.seeds == [1, 2]
+    for bad, message in [
+        ("goals", "expected key.path=value"),
+        ("methods.5.params.ratio=1", r"methods\.5 is not a key or index"),
+        ("methods.0.params.bogus=1", "bogus"),
+        ("goals=[1, 2", "override"),
+    ]:
+        with pytest.raises(ConfigError, match=message):
+            load_config(path, [bad])
+
+
+def test_cli_overrides_are_applied_and_recorded(tmp_path):
+    from test_run import _config, _run
+
+    manifest = write_arena_database(tmp_path / "arena")
+    config = _config(tmp_path, manifest)
+    code, _, err = _run(str(config), "goals=[[0, 0]]", "output=" + str(tmp_path / "other"))
+    assert code == 0, err
+    resolved = json.loads((tmp_path / "other" / "config.resolved.json").read_text())
+    assert resolved["goals"] == [[0, 0]]
+    environment = json.loads((tmp_path / "other" / "environment.json").read_text())
+    assert environment["overrides"]["config"] == ["goals=[[0, 0]]", f"output={tmp_path / 'other'}"]

@@ -1,63 +1,181 @@
-"""Faults during a run: a failing job, a full disk. The run reports them and loses nothing."""
+"""Faults during a run: methods that raise, segfault, hang or exhaust memory, a full disk.
+
+A failing job is a failed *job*, never a failed run: the run ends in bounded time, every other
+job's result is saved, the failures are listed with their causes and recorded in the run folder,
+and only ``--retry-failed`` runs them again.
+"""
 
 from __future__ import annotations
 
 import errno
 import json
-from dataclasses import dataclass
+import subprocess
+import sys
+import time
 from pathlib import Path
-from typing import ClassVar
 
 import numpy as np
+import pandas as pd
 import pytest
+import yaml
 from conftest import run_config
+from plugins import Plugin, install_plugin
 
 from homebench.errors import DataError
 from homebench.fileio import write_text_atomic
-from homebench.methods.base import HomingEstimate, View
-from homebench.methods.registry import register
+
+GOALS = [(0, 0), (1, 1), (2, 2), (3, 3), (0, 4), (3, 0)]
+TIMEOUT_S = 4
 
 
-@register
-@dataclass(frozen=True)
-class Fragile:
-    """Test method: home direction from the mean column brightness; raises for one goal."""
-
-    name: ClassVar[str] = "fragile"
-    image_kind: ClassVar[str] = "unfolded"
-    bad_mean: float = -1.0
-
-    def describe(self, view: View) -> float:
-        return float(np.mean(view.image))
-
-    def home(self, current: float, goal: float) -> HomingEstimate:
-        if goal == self.bad_mean:
-            raise RuntimeError("simulated failure in home")
-        return HomingEstimate(angle=0.0)
+@pytest.fixture
+def plugin(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Plugin:
+    return install_plugin(tmp_path / "plugin", monkeypatch)
 
 
-def _config(tmp_path: Path, manifest: Path, bad_mean: float) -> dict:
+def _mean(manifest: Path, i: int, j: int) -> float:
+    """The fault plugin's features of the arena image at (i, j): its mean grey level."""
+    from homebench.data.catalog import resolve
+
+    return float(np.mean(resolve(str(manifest)).image(i, j, "unfolded")))
+
+
+def _config(tmp_path: Path, manifest: Path, plugin: Plugin, goals=GOALS, **faults: float) -> dict:
+    """The fault plugin with ``faults`` beside a fast warping entry (which never fails)."""
     return {
         "output": str(tmp_path / "run"),
         "databases": {"arena": str(manifest)},
         "conditions": ["arena-arena"],
-        "goals": [[0, 0], [1, 1], [2, 2]],
-        "methods": [{"method": "fragile", "params": {"bad_mean": bad_mean}}],
-        "jobs": 1,
+        "goals": [list(goal) for goal in goals],
+        "methods": [
+            {"method": plugin.method, "label": "faulty", "params": faults},
+            {"method": "warping", "params": {"n_rho": 4, "n_alpha": 24, "n_psi": 24}},
+        ],
+        "job_timeout_s": TIMEOUT_S,
+        "worker_memory_mb": 1024,  # a worker needs ~700 MB of address space
     }
 
 
-def test_a_failing_job_is_reported_and_the_others_finish(
-    tmp_path: Path, arena_manifest: Path
-) -> None:
-    from homebench.data.catalog import resolve
+def _run(tmp_path: Path, config: dict, *options: str) -> subprocess.CompletedProcess:
+    """`homebench run` in its own process, as a user runs it (a crash there cannot hit pytest)."""
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config))
+    command = [sys.executable, "-m", "homebench", "run", str(path), "--no-progress", "--no-report"]
+    return subprocess.run(
+        [*command, *options], capture_output=True, text=True, timeout=240, check=False
+    )
 
-    goal_mean = float(np.mean(resolve(str(arena_manifest)).image(1, 1, "unfolded")))
-    result = run_config(tmp_path, _config(tmp_path, arena_manifest, goal_mean))
+
+def _failures(run_dir: Path) -> dict[str, dict]:
+    return {
+        record["key"]: record
+        for record in (json.loads(p.read_text()) for p in (run_dir / "failures").glob("*.json"))
+    }
+
+
+@pytest.mark.parametrize(
+    "options",
+    [("--jobs", "1"), ("--jobs", "2"), ("--backend", "dask", "--jobs", "2")],
+    ids=["jobs1", "jobs2", "dask"],
+)
+def test_crashing_hanging_raising_and_exhausting_methods_fail_alone(
+    tmp_path: Path, arena_manifest: Path, plugin: Plugin, options: tuple[str, ...]
+) -> None:
+    """A crash or a hang fails its job; an exception or a MemoryError fails its pair."""
+    faults = {
+        "raise_goal": _mean(arena_manifest, 1, 1),
+        "segfault_goal": _mean(arena_manifest, 2, 2),
+        "hang_goal": _mean(arena_manifest, 3, 3),
+        "oom_pair": [_mean(arena_manifest, 0, 4), _mean(arena_manifest, 1, 2)],
+    }
+    start = time.monotonic()
+    result = _run(tmp_path, _config(tmp_path, arena_manifest, plugin, **faults), *options)
+    assert time.monotonic() - start < 150, "the run must end in bounded time"
+    assert result.returncode == 1, result.stderr
+    run_dir = tmp_path / "run"
+    assert len(list((run_dir / "jobs").glob("*.json"))) == 2 * len(GOALS) - 2
+    assert f"{2 * len(GOALS) - 2} job(s) computed, 0 reused, 2 failed" in result.stdout
+    assert "other shards" not in result.stdout
+    lines = result.stderr.splitlines()
+    for goal, cause in [
+        ((2, 2), "failed: worker killed by SIGSEGV"),
+        ((3, 3), f"failed: timed out after {TIMEOUT_S} s"),
+        ((1, 1), "19 pair(s) failed: RuntimeError: simulated failure in home"),
+        ((0, 4), "1 pair(s) failed: out of memory (MemoryError"),
+    ]:
+        assert sum(f"goal {goal}" in line and cause in line for line in lines) == 1, (cause, lines)
+    assert sorted(record["job"] for record in _failures(run_dir).values()) == [
+        "faulty, arena-arena, goal (2, 2)",
+        "faulty, arena-arena, goal (3, 3)",
+    ]
+    pairs = pd.read_csv(run_dir / "tables" / "pairs.csv")
+    faulty = pairs[pairs["method"] == "faulty"]
+    assert len(faulty) == 4 * 19 and faulty["error"].notna().sum() == 20
+    assert len(pairs[pairs["method"] == "warping"]) == len(GOALS) * 19
+
+
+def test_failed_jobs_are_retried_only_on_request(
+    tmp_path: Path, arena_manifest: Path, plugin: Plugin
+) -> None:
+    faults = {
+        "raise_goal": _mean(arena_manifest, 1, 1),
+        "segfault_goal": _mean(arena_manifest, 2, 2),
+    }
+    config = _config(tmp_path, arena_manifest, plugin, goals=GOALS[:3], **faults)
+    assert _run(tmp_path, config, "--jobs", "2").returncode == 1
+    run_dir = tmp_path / "run"
+    finished = {p: p.stat().st_mtime_ns for p in (run_dir / "jobs").glob("*.json")}
+    assert len(finished) == 5
+    result = _run(tmp_path, config, "--jobs", "2")
+    assert result.returncode == 1
+    assert "0 job(s) computed, 5 reused, 1 failed" in result.stdout
+    assert "--retry-failed" in result.stderr
+    (failure,) = _failures(run_dir).values()
+    assert failure["attempts"] == 1
+    result = _run(tmp_path, config, "--jobs", "2", "--retry-failed")
+    assert result.returncode == 1
+    # the crashed job and the job with failed pairs ran again, and only they
+    assert "1 job(s) computed, 4 reused, 1 failed" in result.stdout
+    assert "failed (attempt 2): worker killed by SIGSEGV" in result.stderr
+    (failure,) = _failures(run_dir).values()
+    assert failure["attempts"] == 2
+    now = {p: p.stat().st_mtime_ns for p in (run_dir / "jobs").glob("*.json")}
+    assert sum(now[p] != finished[p] for p in finished) == 1
+
+
+def test_a_failing_pair_keeps_the_other_rows_of_its_job(
+    tmp_path: Path, arena_manifest: Path, plugin: Plugin
+) -> None:
+    faults = {"raise_current": _mean(arena_manifest, 3, 4)}
+    result = run_config(tmp_path, _config(tmp_path, arena_manifest, plugin, GOALS[1:3], **faults))
+    assert result.exit_code == 1, result.output
+    assert "1 pair(s) failed: ValueError: simulated failure of one pair" in result.stderr
+    pairs = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
+    faulty = pairs[pairs["method"] == "faulty"]
+    assert len(faulty) == 2 * 19
+    broken = faulty[faulty["error"].notna()]
+    assert list(zip(broken["current_i"], broken["current_j"], strict=True)) == [(3, 4), (3, 4)]
+    assert (broken["error"] == "ValueError: simulated failure of one pair").all()
+    assert broken["estimate"].isna().all()
+    assert faulty.loc[faulty["error"].isna(), "estimate"].notna().all()
+    summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv").set_index("method")
+    assert summary.loc["faulty", "n_failed"] == 2
+    assert summary.loc["faulty", "pairs"] == 2 * 18
+    assert summary.loc["faulty", "no_estimate_share"] == 0
+    assert summary.loc["warping", "n_failed"] == 0
+
+
+def test_the_summary_counts_a_failed_job_as_failed(
+    tmp_path: Path, arena_manifest: Path, plugin: Plugin
+) -> None:
+    faults = {"segfault_goal": _mean(arena_manifest, 1, 1)}
+    config = _config(tmp_path, arena_manifest, plugin, GOALS[:3], **faults)
+    result = run_config(tmp_path, config, "--jobs", "1")  # in this process: a crash stays out
     assert result.exit_code == 1
-    assert "failed: RuntimeError: simulated failure in home" in result.stderr
-    assert len(list((tmp_path / "run" / "jobs").glob("*.json"))) == 2
-    assert "1 job(s) of the plan have no result here yet" in result.stdout
+    assert "5 job(s) computed, 0 reused, 1 failed" in result.stdout
+    assert "other shards" not in result.stdout
+    assert "(faulty, arena-arena, goal (1, 1)) failed: worker killed by SIGSEGV" in result.stderr
+    assert len(list((tmp_path / "run" / "jobs").glob("*.json"))) == 5
 
 
 def test_disk_full_names_the_path_and_leaves_no_file(

@@ -65,6 +65,7 @@ def _rows(method: FakeMethod, goal: tuple[int, int]) -> list[dict[str, object]]:
                 "home_ms": method.home_ms,
                 "describe_ms": method.describe_ms,
                 "goal_describe_ms": method.describe_ms,
+                "error": None,
             }
         )
     return rows
@@ -112,6 +113,7 @@ def write_fake_run(
                 record = {
                     "format": RESULT_FORMAT,
                     "key": key,
+                    "style": None,
                     "seed": None,
                     "condition": condition,
                     "method": method.label,

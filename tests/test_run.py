@@ -31,17 +31,34 @@ def _run(*args: str) -> tuple[int, str, str]:
     return result.exit_code, result.stdout, result.stderr
 
 
+#: What may differ between runs of one config: times measured in the workers, and nothing else.
+TIMING = {
+    "pairs": {"describe_ms", "home_ms", "goal_describe_ms"},
+    "summary": {"describe_ms", "home_ms"},
+    "goals": set(),
+    "ahc": set(),
+}
+
+
 def _tables(run_dir: Path) -> dict[str, pd.DataFrame]:
+    """The run's tables without their timing columns (which must be exactly ``TIMING``)."""
     tables = {}
-    for name in ("pairs", "summary", "goals", "ahc"):
+    for name, timing in TIMING.items():
         frame = pd.read_csv(run_dir / "tables" / f"{name}.csv")
-        tables[name] = frame.drop(columns=[c for c in frame.columns if c.endswith("_ms")])
+        assert {c for c in frame.columns if c.endswith("_ms")} == timing, name
+        tables[name] = frame.drop(columns=sorted(timing))
     return tables
 
 
 def _assert_same_tables(a: Path, b: Path) -> None:
-    for name, table in _tables(a).items():
-        pd.testing.assert_frame_equal(table, _tables(b)[name], obj=name)
+    """Equal tables, column by column, but for the timing columns."""
+    expected, found = _tables(a), _tables(b)
+    for name, table in expected.items():
+        assert list(found[name].columns) == list(table.columns), name
+        for column in table.columns:
+            pd.testing.assert_series_equal(
+                found[name][column], table[column], obj=f"{name}.{column}"
+            )
 
 
 def test_run_writes_tables_with_sensible_metrics(tmp_path: Path, arena_manifest: Path) -> None:
@@ -63,17 +80,38 @@ def test_run_writes_tables_with_sensible_metrics(tmp_path: Path, arena_manifest:
         assert (run_dir / name).is_file()
 
 
-def test_jobs_1_and_2_give_identical_tables(tmp_path: Path, arena_manifest: Path) -> None:
-    one, two = tmp_path / "one", tmp_path / "two"
-    one.mkdir(), two.mkdir()
-    assert _run(str(_config(one, arena_manifest)), "--jobs", "1")[0] == 0
-    assert _run(str(_config(two, arena_manifest)), "--jobs", "2")[0] == 0
-    _assert_same_tables(one / "run", two / "run")
-
-
-def test_rerun_recomputes_only_what_is_missing_or_changed(
+def test_tables_are_equal_across_workers_backends_and_shards(
     tmp_path: Path, arena_manifest: Path
 ) -> None:
+    """--jobs 1, --jobs 2, a Dask cluster and two shards give the same tables, column by column,
+    except the timing columns."""
+    import distributed  # the test extra installs it: a missing package must fail, not skip
+
+    folders = {name: tmp_path / name for name in ("one", "two", "dask", "sharded")}
+    configs = {}
+    for name, folder in folders.items():
+        folder.mkdir()
+        configs[name] = str(_config(folder, arena_manifest))
+    assert _run(configs["one"], "--jobs", "1")[0] == 0
+    assert _run(configs["two"], "--jobs", "2")[0] == 0
+    code, out, _ = _run(configs["sharded"], "--shard", "1/2")
+    assert code == 0 and "have no result here yet (other shards?)" in out
+    assert _run(configs["sharded"], "--shard", "2/2")[0] == 0
+    code, _, err = _run(configs["sharded"], "--shard", "4/3")
+    assert code == 2 and "need 1 <= i <= n" in err
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster:  # fmt: skip
+        code, _, err = _run(
+            configs["dask"], "--backend", "dask", "--scheduler", cluster.scheduler_address
+        )
+    assert code == 0, err
+    for name in ("two", "dask", "sharded"):
+        _assert_same_tables(folders["one"] / "run", folders[name] / "run")
+
+
+def test_rerun_recomputes_only_what_is_missing(tmp_path: Path, arena_manifest: Path) -> None:
     config = _config(tmp_path, arena_manifest)
     assert _run(str(config))[0] == 0
     jobs = sorted((tmp_path / "run" / "jobs").glob("*.json"))
@@ -81,7 +119,7 @@ def test_rerun_recomputes_only_what_is_missing_or_changed(
     jobs[0].unlink()
     code, out, _ = _run(str(config))
     assert code == 0 and "1 job(s) computed, 3 reused" in out
-    # a changed parameter of one entry recomputes only that entry's jobs
+    # a changed parameter is another config: refused, unless --force replaces the run
     changed = _config(
         tmp_path,
         arena_manifest,
@@ -90,7 +128,11 @@ def test_rerun_recomputes_only_what_is_missing_or_changed(
             {"method": "warping", "label": "warping-coarse", "params": {"n_rho": 6}},
         ],
     )
-    code, out, _ = _run(str(changed))
+    code, out, err = _run(str(changed))
+    assert code == 2 and "holds the run of another config" in err
+    assert "--update" in err and "--force" in err
+    # --update adopts the folder: only the changed entry's jobs run (keys say what changed)
+    code, out, _ = _run(str(changed), "--update")
     assert code == 0 and "2 job(s) computed, 2 reused" in out
     code, out, _ = _run(str(changed), "--force")
     assert code == 0 and "4 job(s) computed, 0 reused" in out
@@ -182,42 +224,6 @@ def test_missing_image_names_the_position(tmp_path: Path, arena_manifest: Path) 
     assert "(2,3)" in err
 
 
-def test_shards_together_give_the_unsharded_tables(tmp_path: Path, arena_manifest: Path) -> None:
-    whole, sharded = tmp_path / "whole", tmp_path / "sharded"
-    whole.mkdir(), sharded.mkdir()
-    changes = {"goals": "all", "methods": [{"method": "warping"}]}
-    assert _run(str(_config(whole, arena_manifest, **changes)))[0] == 0
-    config = _config(sharded, arena_manifest, **changes)
-    code, out, _ = _run(str(config), "--shard", "1/3")
-    assert code == 0 and "have no result here yet" in out
-    first = len(list((sharded / "run" / "jobs").glob("*.json")))
-    assert 0 < first < 20
-    for shard in ("2/3", "3/3"):
-        assert _run(str(config), "--shard", shard)[0] == 0
-    assert len(list((sharded / "run" / "jobs").glob("*.json"))) == 20
-    _assert_same_tables(whole / "run", sharded / "run")
-    code, _, err = _run(str(config), "--shard", "4/3")
-    assert code == 2 and "need 1 <= i <= n" in err
-
-
-def test_dask_cluster_gives_the_local_tables(tmp_path: Path, arena_manifest: Path) -> None:
-    import distributed  # the test extra installs it: a missing package must fail, not skip
-
-    local, remote = tmp_path / "local", tmp_path / "dask"
-    local.mkdir(), remote.mkdir()
-    assert _run(str(_config(local, arena_manifest)), "--jobs", "1")[0] == 0
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-        dashboard_address=None,
-    ) as cluster:  # fmt: skip
-        code, _, err = _run(
-            str(_config(remote, arena_manifest)), "--backend", "dask", "--scheduler",
-            cluster.scheduler_address,
-        )  # fmt: skip
-    assert code == 0, err
-    _assert_same_tables(local / "run", remote / "run")
-
-
 def test_check_passes_fails_with_exit_3_and_names_each_threshold(
     tmp_path: Path, arena_manifest: Path
 ) -> None:
@@ -243,7 +249,9 @@ def test_parquet_pairs_table_holds_the_csv_rows(tmp_path: Path, arena_manifest: 
     from_csv = pd.read_csv(csv_dir / "run" / "tables" / "pairs.csv")
     from_parquet = pd.read_parquet(parquet_dir / "run" / "tables" / "pairs.parquet")
     assert not (parquet_dir / "run" / "tables" / "pairs.csv").exists()
-    columns = [c for c in from_csv.columns if not c.endswith("_ms")]
+    for empty in ("error", "style"):  # no failures, no swept style
+        assert from_csv[empty].isna().all() and from_parquet[empty].isna().all()
+    columns = [c for c in from_csv.columns if not c.endswith("_ms") and c not in ("error", "style")]
     seed_as_float = {"seed": "float64"}  # no sweep: all missing (Int64 <NA> vs CSV's NaN)
     pd.testing.assert_frame_equal(
         from_parquet[columns].astype(seed_as_float).reset_index(drop=True),

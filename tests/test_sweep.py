@@ -55,3 +55,36 @@ def test_sweep_keeps_every_factor_as_a_column(tmp_path: Path) -> None:
     # the two seeds are different rooms: their estimates differ somewhere
     a, b = (pairs[pairs["seed"] == s]["estimate"].to_numpy() for s in (0, 3))
     assert (abs(a - b) > 1e-9).any()
+
+
+def test_styles_sweep_every_generated_database(tmp_path: Path) -> None:
+    """``styles`` x ``seeds``: each generated database in every style and seed; the style is a
+    column, the headline summary is per style, the goals table and RR starts carry it."""
+    config = {
+        "output": str(tmp_path / "run"),
+        "databases": {
+            "original": {"world": {**WORLD, "variant": "original"}},
+            "day": {"world": {**WORLD, "variant": "day"}},
+        },
+        "conditions": ["original-day"],
+        "styles": ["lab", "corridor"],
+        "seeds": [0, 1],
+        "goals": [[1, 1]],
+        "methods": [{"method": "warping", "params": {"n_psi": 36, "n_alpha": 36}}],
+    }
+    result = run_config(tmp_path, config, "--no-report")
+    assert result.exit_code == 0, result.output
+    tables = tmp_path / "run" / "tables"
+    pairs = pd.read_csv(tables / "pairs.csv")
+    assert set(zip(pairs["style"], pairs["seed"], strict=True)) == {
+        (style, seed) for style in ("lab", "corridor") for seed in (0, 1)
+    }
+    assert len(pairs) == 2 * 2 * 8
+    summary = pd.read_csv(tables / "summary.csv")
+    assert list(summary["style"]) == ["corridor", "lab"] and (summary["n_goals"] == 2).all()
+    by_seed = pd.read_csv(tables / "summary_by_seed.csv")
+    assert len(by_seed) == 4 and set(by_seed.columns) >= {"style", "seed"}
+    assert set(pd.read_csv(tables / "rr_starts.csv")["style"]) == {"lab", "corridor"}
+    # a lab and a corridor are different places: the estimates differ
+    a, b = (pairs[pairs["style"] == s]["estimate"].to_numpy() for s in ("lab", "corridor"))
+    assert (abs(a - b) > 1e-9).any()

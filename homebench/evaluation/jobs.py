@@ -2,13 +2,15 @@
 
 Workers pin OpenCV to one thread (parallelism comes from the job level), time every describe
 and home call themselves, and never raise: a failure comes back as a :class:`JobOutcome` with
-the error text, so the run finishes the other jobs and reports it.
+the error text, so the run finishes the other jobs and reports it. Within a job, one image or
+one pair that fails does not sink the others: a describe job describes the rest and then fails
+naming the images; a home job records the pair as a row with an ``error`` and no estimate.
+Feature files (:mod:`~homebench.evaluation.features_io`) are checked before they are reused.
 """
 
 from __future__ import annotations
 
 import json
-import pickle
 import time
 import traceback
 from dataclasses import dataclass
@@ -19,14 +21,37 @@ import cv2
 import numpy as np
 
 from homebench.errors import DataError
+from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
 from homebench.evaluation.metrics import angular_errors
-from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask, MethodSpec
+from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask
 from homebench.evaluation.routes import grid_route
 from homebench.evaluation.sources import load_view, open_source
-from homebench.fileio import read_json_record, write_bytes_atomic, write_text_atomic
+from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import home_direction
 
-RESULT_FORMAT = 2  # 2: records carry the swept world seed
+RESULT_FORMAT = 4  # 2: the swept world seed; 3: rows carry an "error"; 4: the swept style
+
+
+#: The columns of a pair's row, in order; a failed pair has its ``error`` and no answer.
+ROW_COLUMNS = (
+    "current_i",
+    "current_j",
+    "rotation",
+    "heading",
+    "estimate",
+    "estimate_world",
+    "truth",
+    "ae",
+    "rotation_estimate",
+    "distance_m",
+    "n_landmarks",
+    "route_views",
+    "score",
+    "home_ms",
+    "describe_ms",
+    "goal_describe_ms",
+    "error",
+)
 
 
 @dataclass(frozen=True)
@@ -36,14 +61,20 @@ class JobOutcome:
     error: str | None = None
 
 
+def describe_error(error: BaseException) -> str:
+    """One line for an exception of a job, image or pair (out of memory said as such)."""
+    if isinstance(error, MemoryError):  # numpy's is a subclass with a private name
+        return f"out of memory (MemoryError: {error})"
+    return "".join(traceback.format_exception_only(type(error), error)).strip()
+
+
 def run_safely(kind: str, key: str, work: Any, *args: Any) -> JobOutcome:
     """Call ``work(*args)`` with OpenCV on one thread; an exception becomes the outcome's error."""
     cv2.setNumThreads(1)
     try:
         work(*args)
     except Exception as error:  # reported per job; the run goes on with the others
-        detail = "".join(traceback.format_exception_only(type(error), error)).strip()
-        return JobOutcome(kind, key, detail)
+        return JobOutcome(kind, key, describe_error(error))
     return JobOutcome(kind, key)
 
 
@@ -56,29 +87,31 @@ def run_home_job(job: HomeJob, run_dir: Path) -> JobOutcome:
 
 
 def _describe(job: DescribeJob, run_dir: Path) -> None:
+    """Describe every image whose feature file is missing or unusable; then DataError naming
+    the images that failed, if any."""
     method = job.method.create()
+    failed = []
     for task in job.images:
-        path = task.feature_path(run_dir, job.method)
-        if path.is_file():
+        path, key = task.feature_path(run_dir, job.method), task.feature_key(job.method)
+        try:
+            load_features(path, key)
             continue
-        view = load_view(task.source, task.i, task.j, job.method.image_kind, task.rotation)
-        start = time.perf_counter()
-        features = method.describe(view)
-        seconds = time.perf_counter() - start
-        path.parent.mkdir(parents=True, exist_ok=True)
-        payload = {"features": features, "describe_ms": 1000.0 * seconds}
-        write_bytes_atomic(path, pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL))
+        except DataError:
+            pass  # missing, corrupt or of other inputs: describe it (again)
+        try:
+            view = load_view(task.source, task.i, task.j, job.method.image_kind, task.rotation)
+            start = time.perf_counter()
+            features = method.describe(view)
+            seconds = time.perf_counter() - start
+            save_features(path, key, features, 1000.0 * seconds)
+        except Exception as error:  # the batch's other images go on
+            failed.append(f"({task.i}, {task.j}): {describe_error(error)}")
+    if failed:
+        raise DataError(f"describe failed for {len(failed)} image(s): {'; '.join(failed)}")
 
 
-def load_features(task: ImageTask, run_dir: Path, method: MethodSpec) -> dict[str, Any]:
-    path = task.feature_path(run_dir, method)
-    try:
-        with open(path, "rb") as f:
-            return pickle.load(f)
-    except FileNotFoundError:
-        raise DataError(f"{path}: features missing (its describe job did not finish)") from None
-    except (pickle.UnpicklingError, EOFError) as error:
-        raise DataError(f"{path}: corrupt feature file ({error})") from None
+def _features(task: ImageTask, run_dir: Path, job: HomeJob) -> StoredFeatures:
+    return load_features(task.feature_path(run_dir, job.method), task.feature_key(job.method))
 
 
 class _RouteViews:
@@ -105,49 +138,56 @@ class _RouteViews:
 
 def _home(job: HomeJob, run_dir: Path) -> None:
     method = job.method.create()
-    goal = load_features(job.goal, run_dir, job.method)
+    goal = _features(job.goal, run_dir, job)
     current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
     routes = _RouteViews(job, method) if getattr(method, "uses_route", False) else None
     rows = []
     for task in job.currents:
-        current = load_features(task, run_dir, job.method)
-        route = {"route": routes.features(task)} if routes is not None else {}
-        start = time.perf_counter()
-        estimate = method.home(current["features"], goal["features"], **route)
-        home_ms = 1000.0 * (time.perf_counter() - start)
         heading = current_db.heading(task.i, task.j) + task.rotation
         current_xy = current_db.grid.position(task.i, task.j)
-        angle = np.nan if estimate.angle is None else float(estimate.angle)
-        estimate_world = heading + angle
-        rows.append(
-            {
-                "current_i": task.i,
-                "current_j": task.j,
-                "rotation": task.rotation,
-                "heading": heading,
+        row = {
+            "current_i": task.i,
+            "current_j": task.j,
+            "rotation": task.rotation,
+            "heading": heading,
+            "truth": float(home_direction(current_xy, goal_xy, heading)),
+            "distance_m": float(np.hypot(*(goal_xy - current_xy))),
+        }
+        try:
+            current = _features(task, run_dir, job)
+            route = {"route": routes.features(task)} if routes is not None else {}
+            start = time.perf_counter()
+            estimate = method.home(current.features, goal.features, **route)
+            home_ms = 1000.0 * (time.perf_counter() - start)
+        except Exception as error:  # one failed pair; the job's other pairs go on
+            row["error"] = describe_error(error)
+        else:
+            angle = np.nan if estimate.angle is None else float(estimate.angle)
+            estimate_world = heading + angle
+            row |= {
                 "estimate": None if estimate.angle is None else angle,
                 "estimate_world": None if estimate.angle is None else float(estimate_world),
-                "truth": float(home_direction(current_xy, goal_xy, heading)),
                 "ae": _none_if_nan(angular_errors(estimate_world, current_xy, goal_xy)),
                 "rotation_estimate": estimate.rotation,
-                "distance_m": float(np.hypot(*(goal_xy - current_xy))),
                 "n_landmarks": int(estimate.n_landmarks),
                 "route_views": len(route.get("route", ())),
                 "score": estimate.score,
                 "home_ms": home_ms,
-                "describe_ms": current["describe_ms"],
-                "goal_describe_ms": goal["describe_ms"],
+                "describe_ms": current.describe_ms,
+                "goal_describe_ms": goal.describe_ms,
             }
-        )
+        rows.append({column: row.get(column) for column in ROW_COLUMNS})
     record = {
         "format": RESULT_FORMAT,
         "key": job.key,
+        "style": job.style,
         "seed": job.seed,
         "condition": job.condition,
         "method": job.method.label,
         "method_name": job.method.method,
         "params": dict(job.method.params),
+        "code_version": job.method.code,
         "current_database": job.currents[0].source.alias,
         "goal_database": job.goal.source.alias,
         "goal_i": job.goal.i,

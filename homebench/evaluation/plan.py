@@ -3,10 +3,14 @@
 Two kinds of job:
 
 - a **describe job** computes one method's features for a batch of images and writes one
-  feature file per image, keyed by (method, parameters, database identity, position, rotation);
-  every home job that needs an image reuses its file;
+  feature file per image, keyed by (method, its code version, parameters, database identity,
+  position, rotation, image content); every home job that needs an image reuses it;
 - a **home job** runs one method for one goal and all its current positions of one condition,
   and writes one result file keyed by a hash of everything that determines its rows.
+
+Code versions come from :mod:`~homebench.evaluation.code_version`, image contents from
+:mod:`~homebench.evaluation.image_hashes`: a changed method or image changes the keys of exactly
+the jobs and features it touches.
 
 Jobs carry database *sources* (paths and identities), never image arrays, so they travel cheaply
 to worker processes or a cluster.
@@ -21,8 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from homebench.config import RunConfig
+from homebench.config import RunConfig, SweptWorld
 from homebench.errors import ConfigError
+from homebench.evaluation.code_version import code_version
+from homebench.evaluation.image_hashes import image_hashes
 from homebench.evaluation.sources import Source
 from homebench.geometry import Grid
 from homebench.hashing import derived_seed, stable_hash
@@ -35,15 +41,17 @@ DESCRIBE_BATCH = 8
 
 @dataclass(frozen=True)
 class MethodSpec:
-    """One method entry of the config: table label, registered name and parameters."""
+    """One method entry of the config: table label, registered name, the parameters it sets
+    and the method's code version."""
 
     label: str
     method: str
     params: tuple[tuple[str, Any], ...]
+    code: str
 
     @property
     def key(self) -> str:
-        return stable_hash({"method": self.method, "params": dict(self.params)})
+        return stable_hash({"method": self.method, "params": dict(self.params), "code": self.code})
 
     @property
     def image_kind(self) -> ImageKind:
@@ -55,16 +63,26 @@ class MethodSpec:
 
 @dataclass(frozen=True)
 class ImageTask:
-    """One image as a method sees it: database, grid position, rotation (radians, ccw)."""
+    """One image as a method sees it: database, grid position, rotation (radians, ccw), and
+    its content (see :func:`~homebench.evaluation.image_hashes.image_hashes`)."""
 
     source: Source
     i: int
     j: int
     rotation: float = 0.0
+    content: str = ""
+
+    @property
+    def inputs(self) -> tuple[str, int, int, float, str]:
+        """What determines this image as the method sees it (part of every key)."""
+        return (self.source.identity, self.i, self.j, self.rotation, self.content)
+
+    def feature_key(self, method: MethodSpec) -> str:
+        return stable_hash({"method": method.key, "image": self.inputs})
 
     def feature_path(self, run_dir: Path, method: MethodSpec) -> Path:
         rotation = f"_r{round(math.degrees(self.rotation) * 1000)}" if self.rotation else ""
-        name = f"{self.i}_{self.j}{rotation}.pkl"
+        name = f"{self.i}_{self.j}{rotation}.npz"
         return run_dir / "features" / method.key / self.source.identity / name
 
 
@@ -75,12 +93,7 @@ class DescribeJob:
 
     @property
     def key(self) -> str:
-        return stable_hash(
-            {
-                "method": self.method.key,
-                "images": [(t.source.identity, t.i, t.j, t.rotation) for t in self.images],
-            }
-        )
+        return stable_hash({"method": self.method.key, "images": [t.inputs for t in self.images]})
 
 
 @dataclass(frozen=True)
@@ -92,16 +105,18 @@ class HomeJob:
     goal: ImageTask
     currents: tuple[ImageTask, ...]
     seed: int | None = None  # the swept world seed, None without a sweep
+    style: str | None = None  # the swept world style, None without a sweep
 
     @property
     def key(self) -> str:
         return stable_hash(
             {
+                "style": self.style,
                 "seed": self.seed,
                 "condition": self.condition,
                 "method": self.method.key,
-                "goal": (self.goal.source.identity, self.goal.i, self.goal.j),
-                "currents": [(t.source.identity, t.i, t.j, t.rotation) for t in self.currents],
+                "goal": self.goal.inputs,
+                "currents": [t.inputs for t in self.currents],
             }
         )
 
@@ -166,36 +181,53 @@ def rotation_of(config: RunConfig, source: Source, i: int, j: int) -> float:
     return 2.0 * math.pi * int(rng.integers(columns)) / columns
 
 
+def method_specs(config: RunConfig) -> list[MethodSpec]:
+    """The method points of a config with their code versions. Parameters are the config's:
+    a default is part of the method's source, so its code version covers it."""
+    versions = {name: code_version(registry.get(name)) for _, name, _ in config.method_points()}
+    return [
+        MethodSpec(label, name, tuple(sorted(params.items())), versions[name])
+        for label, name, params in config.method_points()
+    ]
+
+
 def make_plan(
-    config: RunConfig, sources: dict[tuple[str, int | None], Source], config_path: Path | str
+    config: RunConfig, sources: dict[tuple[str, SweptWorld], Source], config_path: Path | str
 ) -> Plan:
     """All jobs of a run, in a deterministic order."""
-    methods = [
-        MethodSpec(label, method, tuple(sorted(params.items())))
-        for label, method, params in config.method_points()
-    ]
+    methods = method_specs(config)
+    contents: dict[tuple[str, ImageKind], dict[tuple[int, int], str]] = {}
+
+    def task(source: Source, i: int, j: int, kind: ImageKind, rotation: float = 0.0) -> ImageTask:
+        if (source.identity, kind) not in contents:
+            contents[source.identity, kind] = image_hashes(source, kind, source.grid.indices())
+        return ImageTask(source, i, j, rotation, contents[source.identity, kind][i, j])
+
     home: list[HomeJob] = []
-    for seed in config.world_seeds():
+    for world in config.worlds():
         for condition, current_alias, goal_alias in config.condition_pairs():
-            current_src, goal_src = sources[current_alias, seed], sources[goal_alias, seed]
+            current_src, goal_src = sources[current_alias, world], sources[goal_alias, world]
             if current_src.grid != goal_src.grid:
                 raise ConfigError(
                     f"{config_path}: conditions: {condition!r} pairs databases with different "
                     f"grids ({current_src.grid} vs {goal_src.grid})"
                 )
             for goal in select_goals(config, goal_src.grid, config_path):
-                tasks = tuple(
-                    ImageTask(current_src, i, j, rotation_of(config, current_src, i, j))
+                currents = [
+                    (i, j, rotation_of(config, current_src, i, j))
                     for i, j in select_currents(config, current_src.grid, goal)
-                )
+                ]
                 for method in methods:
-                    goal_task = ImageTask(goal_src, *goal)
-                    home.append(HomeJob(condition, method, goal_task, tasks, seed))
+                    kind = method.image_kind
+                    tasks = tuple(task(current_src, i, j, kind, r) for i, j, r in currents)
+                    goal_task = task(goal_src, *goal, kind)
+                    style, seed = world
+                    home.append(HomeJob(condition, method, goal_task, tasks, seed, style))
     describe = []
     for method in {m.key: m for m in methods}.values():  # equal parameters share features
         needed = sorted(
             {t for job in home if job.method.key == method.key for t in (job.goal, *job.currents)},
-            key=lambda t: (t.source.identity, t.i, t.j, t.rotation),
+            key=lambda t: t.inputs,
         )
         for start in range(0, len(needed), DESCRIBE_BATCH):
             describe.append(DescribeJob(method, tuple(needed[start : start + DESCRIBE_BATCH])))

@@ -3,6 +3,11 @@
 Everything here reads the run folder alone (``plan.json`` lists the run's home jobs, one result
 file each), so tables can be rebuilt at any time. A missing or corrupt job file is reported by
 name, never skipped silently.
+
+Every metric carries its 95 % goal-bootstrap interval in ``<metric>_lo`` and ``<metric>_hi``
+(:mod:`homebench.evaluation.statistics`: goals are resampled, a goal being (swept world,
+goal_i, goal_j)); each table cell draws its resamples from a seed derived from the cell's
+factors, so the tables are identical across runs and job counts.
 """
 
 from __future__ import annotations
@@ -11,23 +16,42 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from homebench.config import MetricsConfig
+from homebench.data.synth.spec import STYLES
 from homebench.errors import DataError
 from homebench.evaluation.jobs import read_result
-from homebench.evaluation.metrics import HomeField, ae_summary, ahc, ahc_by_distance
+from homebench.evaluation.metrics import (
+    HomeField,
+    Missing,
+    ae_summary,
+    ahc_by_distance,
+    distance_bins,
+)
 from homebench.evaluation.plan import Plan
 from homebench.evaluation.return_ratio import catchment, return_ratio
+from homebench.evaluation.statistics import (
+    GoalResampler,
+    Interval,
+    ahc_interval,
+    ahc_intervals,
+    mean_interval,
+    mean_intervals,
+)
 from homebench.fileio import atomic_write, write_text_atomic
 from homebench.geometry import Grid
+from homebench.hashing import derived_seed
 
 PLAN_FILE = "plan.json"
 GROUP = ["condition", "method"]
 #: The factors of a pair (every one a column, so tables can group by any), then its position.
+#: ``style`` and ``seed`` are the swept world's (empty without a sweep).
 LEADING = [
+    "style",
     "seed",
     "condition",
     "current_database",
@@ -38,6 +62,18 @@ LEADING = [
     "goal_j",
     "current_i",
     "current_j",
+]
+#: The factors of a goal's job (the keys of the goal and return-ratio tables).
+GOAL_FACTORS = LEADING[:-2]
+#: Columns of the per-start return-ratio outcomes (``rr_starts.csv``).
+RR_START_COLUMNS = [
+    *GOAL_FACTORS,
+    "start_i",
+    "start_j",
+    "steps",
+    "success",
+    "path_length",
+    "no_estimate",
 ]
 
 
@@ -90,8 +126,9 @@ def load_pairs(run_dir: Path) -> PairTable:
         return PairTable(pd.DataFrame(), tuple(missing))
     pairs = pd.concat(frames, ignore_index=True)
     pairs["seed"] = pairs["seed"].astype("Int64")
+    pairs["style"] = pairs["style"].astype("string")
     pairs["ae_deg"] = np.degrees(pairs["ae"].astype(float))
-    order = ["seed", "condition", "method", "goal_i", "goal_j", "current_i", "current_j"]
+    order = ["style", "seed", "condition", "method", "goal_i", "goal_j", "current_i", "current_j"]
     pairs = pairs.sort_values(order, kind="stable").reset_index(drop=True)
     leading = LEADING
     return PairTable(
@@ -106,65 +143,155 @@ def _grid_of(group: pd.DataFrame) -> Grid:
 
 def goal_fields(
     pairs: pd.DataFrame,
-) -> list[tuple[tuple[int | None, str, str, int, int], HomeField, bool]]:
-    """One world-frame home field per (condition, method, goal) and whether it covers the grid.
+) -> list[tuple[tuple[str | None, int | None, str, str, int, int], HomeField, bool]]:
+    """One world-frame home field per (style, seed, condition, method, goal) and whether it
+    covers the grid.
 
     A field covers the grid when every position but the goal has a pair; return ratios of
     fields that do not are not comparable with the paper's and are reported as NaN.
     """
     fields = []
-    for (seed, condition, method, gi, gj), group in pairs.groupby(
-        ["seed", "condition", "method", "goal_i", "goal_j"], sort=True, dropna=False
+    for (style, seed, condition, method, gi, gj), group in pairs.groupby(
+        ["style", "seed", "condition", "method", "goal_i", "goal_j"], sort=True, dropna=False
     ):
-        grid = _grid_of(group)
-        angles = np.full(grid.shape, np.nan)
-        estimates = group["estimate_world"].astype(float).to_numpy()
-        angles[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = estimates
-        complete = len(group) == grid.size - 1
-        key = (None if pd.isna(seed) else int(seed), condition, method, int(gi), int(gj))
-        fields.append((key, HomeField(grid, (gi, gj), angles), complete))
+        key = (
+            None if pd.isna(style) else str(style),
+            None if pd.isna(seed) else int(seed),
+            condition,
+            method,
+            int(gi),
+            int(gj),
+        )
+        fields.append((key, *_field_of(group)))
     return fields
 
 
-def goal_table(pairs: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
-    """Return ratio (and catchment) per condition, method and goal (the paper's Figure 10)."""
+def _field_of(group: pd.DataFrame) -> tuple[HomeField, bool]:
+    """The home field of one goal's pairs and whether it covers the grid."""
+    grid = _grid_of(group)
+    angles = np.full(grid.shape, np.nan)
+    estimates = group["estimate_world"].astype(float).to_numpy()
+    angles[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = estimates
+    goal = (int(group["goal_i"].iloc[0]), int(group["goal_j"].iloc[0]))
+    return HomeField(grid, goal, angles), len(group) == grid.size - 1
+
+
+def goal_tables(pairs: pd.DataFrame, metrics: MetricsConfig) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Return ratio (and catchment) per condition, method and goal (the paper's Figure 10),
+    and the outcome of every return-ratio start (columns ``RR_START_COLUMNS``; path length in
+    grid units), so that users can test the outcomes themselves.
+
+    A goal whose field does not cover the grid has RR (and catchment) NaN and no starts.
+    """
     rr = metrics.return_ratio
-    rows = []
-    for (seed, condition, method, gi, gj), home_field, complete in goal_fields(pairs):
-        row = {"seed": seed, "condition": condition, "method": method, "goal_i": gi, "goal_j": gj}
+    rows, outcomes = [], []
+    for key, group in pairs.groupby(GOAL_FACTORS, sort=True, dropna=False):
+        factors = dict(zip(GOAL_FACTORS, key, strict=True))
+        factors["seed"] = None if pd.isna(factors["seed"]) else int(factors["seed"])
+        factors["style"] = None if pd.isna(factors["style"]) else str(factors["style"])
+        home_field, complete = _field_of(group)
+        names = ("style", "seed", "condition", "method", "goal_i", "goal_j")
+        row = {name: factors[name] for name in names}
+        row["rr"] = math.nan
+        if metrics.catchment:
+            row["catchment"] = catchment(home_field).ratio if complete else math.nan
         if complete:
-            max_travel = rr.max_travel
-            row["rr"] = return_ratio(home_field, rr.rh, rr.success_radius, max_travel).rr
-            if metrics.catchment:
-                row["catchment"] = catchment(home_field).ratio
-        else:
-            row["rr"] = math.nan
-            if metrics.catchment:
-                row["catchment"] = math.nan
+            result = return_ratio(home_field, rr.rh, rr.success_radius, rr.max_travel)
+            row["rr"] = result.rr
+            outcomes.append((factors, result.outcomes()))
         rows.append(row)
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows), _start_table(outcomes)
 
 
-def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig) -> pd.DataFrame:
-    """AHC per distance bin for each condition and method (the paper's Figure 9)."""
+def _start_table(outcomes: list[tuple[dict[str, Any], dict[str, np.ndarray]]]) -> pd.DataFrame:
+    """The ``rr_starts`` table from each goal's factors and per-start outcomes."""
+    if not outcomes:
+        return pd.DataFrame(columns=RR_START_COLUMNS)
+    factors = pd.DataFrame([goal for goal, _ in outcomes])
+    lengths = [len(starts["steps"]) for _, starts in outcomes]
+    table = factors.iloc[np.repeat(np.arange(len(outcomes)), lengths)].reset_index(drop=True)
+    for name in outcomes[0][1]:
+        table[name] = np.concatenate([starts[name] for _, starts in outcomes])
+    return table[RR_START_COLUMNS]
+
+
+def goal_labels(frame: pd.DataFrame) -> np.ndarray:
+    """The goal of each row: (world, goal_i, goal_j), shape (n, 3) int. ``world`` numbers the
+    swept (style, seed): the seed plus 2**20 times the style's place in
+    :data:`~homebench.data.synth.spec.STYLES` (plus one); -1 without a sweep."""
+    seed = frame["seed"].astype("Float64").fillna(-1).to_numpy(dtype=np.int64)
+    if "style" in frame.columns:
+        style = frame["style"].map(lambda s: STYLES.index(s) + 1 if isinstance(s, str) else 0)
+        seed = seed + (style.to_numpy(dtype=np.int64) << 20)
+    return np.column_stack([seed, frame["goal_i"], frame["goal_j"]]).astype(np.int64)
+
+
+def cell_resampler(frame: pd.DataFrame, *cell: object) -> GoalResampler:
+    """The goal bootstrap of a table cell's rows, seeded by the cell's factors ``cell``."""
+    factors = [None if pd.isna(value) else value for value in cell]
+    return GoalResampler(goal_labels(frame), seed=derived_seed("goal-bootstrap", *factors))
+
+
+def _bounds(name: str, interval: Interval) -> dict[str, float]:
+    """``name``, ``name_lo``, ``name_hi``: a metric's columns."""
+    return {name: interval.estimate, f"{name}_lo": interval.lo, f"{name}_hi": interval.hi}
+
+
+def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP) -> pd.DataFrame:
+    """AHC per distance bin for each ``by`` (condition and method, with "style" first when a
+    run sweeps styles; the paper's Figure 9).
+
+    The columns of :func:`~homebench.evaluation.metrics.ahc_by_distance`, then per bin the
+    goals with a pair in it (``n_goals``), the AHC's bounds, the share without an estimate and
+    the AHC with a missing estimate as 90 deg, each with bounds (resamples shared by the bins).
+    """
     cfg = metrics.ahc
     bins = np.arange(cfg.bin_start_cm, cfg.bin_stop_cm + cfg.bin_step_cm / 2, cfg.bin_step_cm)
     frames = []
-    for (condition, method), group in pairs.groupby(GROUP, sort=True):
-        table = ahc_by_distance(
-            group["ae"].astype(float), group["distance_m"].astype(float), bins, cfg.missing
-        )
-        table.insert(0, "method", method)
-        table.insert(0, "condition", condition)
+    for key, group in pairs.groupby(by, sort=True):
+        ae = group["ae"].to_numpy(dtype=float)
+        distance = group["distance_m"].to_numpy(dtype=float)
+        table = ahc_by_distance(ae, distance, bins, cfg.missing)
+        resampler = cell_resampler(group, *key)
+        masks = distance_bins(distance, bins)[1]
+        table = pd.concat([table, _bin_uncertainty(ae, resampler, masks, cfg.missing)], axis=1)
+        for name, value in reversed(list(zip(by, key, strict=True))):
+            table.insert(0, name, value)
         frames.append(table)
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+
+
+def _bin_uncertainty(
+    ae: np.ndarray, resampler: GoalResampler, masks: np.ndarray, missing: Missing
+) -> pd.DataFrame:
+    """The uncertainty columns of :func:`ahc_table`, a row per distance bin (``masks``:
+    (n_bins, n_pairs) bool)."""
+    share = mean_intervals(np.isnan(ae), resampler, masks)
+    ahc = ahc_intervals(ae, resampler, missing, masks)
+    missing90 = ahc_intervals(ae, resampler, "orthogonal", masks)
+    return pd.DataFrame(
+        {
+            "n_goals": share[k].n_goals,
+            "ahc_lo": ahc[k].lo,
+            "ahc_hi": ahc[k].hi,
+            **_bounds("no_estimate_share", share[k]),
+            **_bounds("ahc_missing90", missing90[k]),
+        }
+        for k in range(len(masks))
+    )
 
 
 def summary_table(
     pairs: pd.DataFrame, goals: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP
 ) -> pd.DataFrame:
-    """Headline per ``by`` (method x condition; with "seed" first, per world seed too): AE,
-    AHC, RR (mean over goals), share without estimate, times."""
+    """Headline per ``by`` (method x condition; with "seed" first, per world seed too).
+
+    Columns: the factors, ``pairs``, ``n_goals``, then each metric with its bounds
+    (``_lo``, ``_hi``): ``no_estimate_share``, ``mean_ae_deg`` (pairs with an estimate),
+    ``median_ae_deg`` (no bounds), ``ahc`` (missing estimates as configured, by default left
+    out as in the paper), ``ahc_missing90`` (a missing estimate counts as 90 deg), ``rr``
+    (mean over the goals whose field covers the grid), ``catchment`` if configured; times.
+    """
     rows = []
     for key, group in pairs.groupby(by, sort=True, dropna=False):
         factors = dict(zip(by, key, strict=True))
@@ -173,29 +300,33 @@ def summary_table(
             column = goals[name]
             mask &= column.isna().to_numpy() if pd.isna(value) else (column == value).to_numpy()
         per_goal = goals[mask]
-        ae = group["ae"].astype(float)
-        summary = ae_summary(ae)
+        resampler = cell_resampler(group, *factors.values())
+        by_goal = cell_resampler(per_goal, *factors.values())
+        ae = group["ae"].to_numpy(dtype=float)
         describe_ms = pd.concat([group["describe_ms"], group["goal_describe_ms"]])
         row = {
             **factors,
-            "pairs": summary["n"],
-            "no_estimate_share": summary["missing_share"],
-            "mean_ae_deg": summary["mean_deg"],
-            "median_ae_deg": summary["median_deg"],
-            "ahc": ahc(ae, metrics.ahc.missing),
-            "rr": per_goal["rr"].mean(),
+            "pairs": len(group),
+            "n_goals": resampler.n_goals,
+            **_bounds("no_estimate_share", mean_interval(np.isnan(ae), resampler)),
+            **_bounds("mean_ae_deg", mean_interval(ae, resampler).transformed(np.degrees)),
+            "median_ae_deg": ae_summary(ae)["median_deg"],
+            **_bounds("ahc", ahc_interval(ae, resampler, metrics.ahc.missing)),
+            **_bounds("ahc_missing90", ahc_interval(ae, resampler, "orthogonal")),
+            **_bounds("rr", mean_interval(per_goal["rr"], by_goal)),
             "describe_ms": describe_ms.mean(),
             "home_ms": group["home_ms"].mean(),
         }
         if metrics.catchment:
-            row["catchment"] = per_goal["catchment"].mean()
+            row |= _bounds("catchment", mean_interval(per_goal["catchment"], by_goal))
         rows.append(row)
     return pd.DataFrame(rows)
 
 
 @dataclass(frozen=True)
 class RunTables:
-    """The tables of a run; ``summary_by_seed`` is empty unless the run swept world seeds."""
+    """The tables of a run; ``summary_by_seed`` is empty unless the run swept world seeds;
+    ``rr_starts``: the outcome of every return-ratio start."""
 
     pairs: pd.DataFrame
     summary: pd.DataFrame
@@ -203,6 +334,7 @@ class RunTables:
     ahc: pd.DataFrame
     missing_jobs: tuple[str, ...]
     summary_by_seed: pd.DataFrame = field(default_factory=pd.DataFrame)
+    rr_starts: pd.DataFrame = field(default_factory=pd.DataFrame)
 
 
 def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
@@ -211,16 +343,34 @@ def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
         empty = pd.DataFrame()
         return RunTables(empty, empty, empty, empty, loaded.missing_jobs)
     pairs = loaded.pairs
-    goals = goal_table(pairs, metrics)
+    answered = pairs[pairs["error"].isna()]  # failed pairs: no metric, only n_failed
+    goals, rr_starts = goal_tables(answered, metrics)
+    by = (["style"] if pairs["style"].notna().any() else []) + GROUP
     swept = pairs["seed"].nunique(dropna=False) > 1
+    by_seed = [*by[:-2], "seed", *GROUP]
     return RunTables(
         pairs,
-        summary_table(pairs, goals, metrics),
+        with_failures(summary_table(answered, goals, metrics, by), pairs, by),
         goals,
-        ahc_table(pairs, metrics),
+        ahc_table(answered, metrics, by),
         loaded.missing_jobs,
-        summary_table(pairs, goals, metrics, ["seed", *GROUP]) if swept else pd.DataFrame(),
+        with_failures(summary_table(answered, goals, metrics, by_seed), pairs, by_seed)
+        if swept
+        else pd.DataFrame(),
+        rr_starts,
     )
+
+
+def with_failures(summary: pd.DataFrame, pairs: pd.DataFrame, by: list[str]) -> pd.DataFrame:
+    """``summary`` with ``n_failed`` after ``pairs``: the pairs whose method raised (they are
+    in no metric, not even as "no estimate"; a goal with one has no RR, its field has a hole)."""
+    counts = pairs["error"].notna().groupby([pairs[c] for c in by], dropna=False).sum()
+    failed = counts.rename("n_failed").reset_index()
+    merged = failed.merge(summary, on=by, how="left") if len(summary) else failed.assign(pairs=0)
+    merged["pairs"] = merged["pairs"].fillna(0).astype(int)
+    columns = [c for c in merged.columns if c != "n_failed"]
+    columns.insert(columns.index("pairs") + 1, "n_failed")
+    return merged[columns]
 
 
 def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Path]:
@@ -237,7 +387,12 @@ def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Pa
         path = folder / "pairs.csv"
         write_text_atomic(path, pairs.to_csv(index=False, float_format="%.6g"))
     written.append(path)
-    named = [("summary", tables.summary), ("goals", tables.goals), ("ahc", tables.ahc)]
+    named = [
+        ("summary", tables.summary),
+        ("goals", tables.goals),
+        ("ahc", tables.ahc),
+        ("rr_starts", tables.rr_starts),
+    ]
     if not tables.summary_by_seed.empty:
         named.append(("summary_by_seed", tables.summary_by_seed))
     for name, table in named:

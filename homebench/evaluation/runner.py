@@ -1,126 +1,75 @@
-"""Running a plan: skip what is finished, run the rest in joblib workers, collect the outcomes.
+"""Running a plan: skip what is finished, run the rest in isolated workers, record the outcomes.
 
 Every job writes its own file atomically, so a run that is interrupted (Ctrl-C, a killed
 process) resumes with the next call and recomputes nothing that had finished. Describe jobs run
 first (their features are shared by many home jobs), then home jobs.
+
+Jobs run in isolated worker processes (:mod:`~homebench.evaluation.isolation`), locally or
+inside Dask tasks: a job that raises, crashes, hangs past the timeout or runs out of memory is a
+failed job, recorded with its cause (:mod:`~homebench.evaluation.failures`), while the others
+finish. The run folder is locked and belongs to one config
+(:mod:`~homebench.evaluation.run_folder`); its metadata says where the results come from
+(:mod:`~homebench.evaluation.provenance`).
 """
 
 from __future__ import annotations
 
-import json
-import os
-import platform
-import socket
-import sys
-from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import contextmanager
+import contextlib
+import dataclasses
+import shutil
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from datetime import UTC, datetime
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
-from joblib import Parallel, delayed, parallel_config
-from pydantic import BaseModel
 from tqdm import tqdm
 
-from homebench.config import RunConfig
-from homebench.errors import ConfigError
+from homebench.config import RunConfig, SweptWorld
+from homebench.evaluation.data_checks import check_source
+from homebench.evaluation.executors import Execution, Executor, open_executor
+from homebench.evaluation.failures import (
+    Failure,
+    clear_failure,
+    failure_path,
+    read_failure,
+    record_failure,
+)
+from homebench.evaluation.isolation import Crash, Limits
 from homebench.evaluation.jobs import JobOutcome, read_result, run_describe_job, run_home_job
-from homebench.evaluation.plan import Plan, make_plan
+from homebench.evaluation.plan import DescribeJob, HomeJob, Plan, make_plan
+from homebench.evaluation.provenance import resolve_config, run_sections, write_run_metadata
 from homebench.evaluation.results import write_plan_index
+from homebench.evaluation.run_folder import check_owner, claim_run_folder, lock_run_folder
 from homebench.evaluation.sources import Source, prepare_sources
-from homebench.fileio import write_text_atomic
-from homebench.hashing import canonical_json
 
-PACKAGES = ("homebench", "numpy", "opencv-contrib-python-headless", "pandas", "joblib", "pydantic")
+__all__ = ["Execution", "RunOutcome", "run_parallel", "run_plan", "write_run_metadata"]
 
 
 @dataclass(frozen=True)
 class RunOutcome:
+    """What a run did: home jobs ``computed`` now and ``reused``; ``failures`` of home jobs of
+    this shard (now, or earlier and not retried) and of describe jobs run now; ``pending``:
+    home jobs of the plan with neither a result nor a failure here (other shards)."""
+
     run_dir: Path
     plan: Plan
-    computed: int  # home jobs computed in this call
-    reused: int  # home jobs found finished
-    failures: tuple[JobOutcome, ...]
+    computed: int
+    reused: int
+    failures: tuple[Failure, ...]
+    pending: int
+    notes: tuple[str, ...] = ()  # how the data compare with their reference sums
 
 
-def _versions() -> dict[str, str]:
-    found = {"python": sys.version.split()[0]}
-    for name in PACKAGES:
-        try:
-            found[name] = version(name)
-        except PackageNotFoundError:
-            found[name] = "not installed"
-    return found
-
-
-def write_run_metadata(config: BaseModel, config_path: Path, run_dir: Path) -> None:
-    """The resolved config, package versions and host, beside the results."""
-    resolved = config.model_dump(mode="json")
-    write_text_atomic(run_dir / "config.resolved.json", json.dumps(resolved, indent=2) + "\n")
-    environment = {
-        "config_file": str(config_path),
-        "config_hash": canonical_json(resolved),
-        "versions": _versions(),
-        "host": socket.gethostname(),
-        "platform": platform.platform(),
-        "cpu_count": os.cpu_count(),
-        "started": datetime.now(UTC).isoformat(timespec="seconds"),
-    }
-    write_text_atomic(run_dir / "environment.json", json.dumps(environment, indent=2) + "\n")
-
-
-@dataclass(frozen=True)
-class Execution:
-    """How jobs run: ``jobs`` local workers (joblib/loky), or a Dask cluster (``backend="dask"``
-    at ``scheduler``, or a local cluster of ``jobs`` workers); ``shard = (i, n)`` runs only the
-    i-th of n deterministic parts of the plan (1-based)."""
-
-    jobs: int = 1
-    backend: Literal["local", "dask"] = "local"
-    scheduler: str | None = None
-    shard: tuple[int, int] | None = None
-
-    def __post_init__(self) -> None:
-        if self.jobs == 0 or self.jobs < -1:
-            raise ConfigError("jobs must be a positive number, or -1 for all cores")
-        if self.shard is not None and not 1 <= self.shard[0] <= self.shard[1]:
-            raise ConfigError(f"shard {self.shard[0]}/{self.shard[1]}: need 1 <= i <= n")
-        if self.scheduler is not None and self.backend != "dask":
-            raise ConfigError("a scheduler address needs --backend dask")
-
-    def in_shard(self, key: str) -> bool:
-        """Whether the job with ``key`` belongs to this shard (a pure function of the key)."""
-        return self.shard is None or int(key[:8], 16) % self.shard[1] == self.shard[0] - 1
-
-
-@contextmanager
-def _workers(execution: Execution) -> Iterator[int]:
-    """Set up the backend; yield the n_jobs to give joblib."""
-    if execution.backend == "local":
-        yield execution.jobs
-        return
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise ConfigError("--backend dask needs `pip install homebench[dask]`") from None
-    if execution.scheduler is not None:
-        client = Client(execution.scheduler)
-    else:
-        n = (os.cpu_count() or 1) if execution.jobs == -1 else execution.jobs
-        cluster = LocalCluster(
-            n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-            dashboard_address=None,
-        )  # fmt: skip
-        client = Client(cluster)
-    try:
-        with parallel_config(backend="dask"):
-            yield -1
-    finally:
-        client.close()
-        if execution.scheduler is None:
-            cluster.close()
+def _outcomes(
+    kind: str, results: Iterator[tuple[Any, JobOutcome | Crash]], total: int, show_progress: bool
+) -> Iterator[tuple[Any, JobOutcome]]:
+    """Job outcomes as they finish (a crash as the job's error), with a progress bar."""
+    with tqdm(total=total, desc=kind, unit="job", disable=not show_progress) as bar:
+        for job, result in results:
+            if isinstance(result, Crash):
+                result = JobOutcome(kind, job.key, result.cause)
+            bar.update()
+            yield job, result
 
 
 def run_parallel(
@@ -131,21 +80,37 @@ def run_parallel(
     label: str,
     show_progress: bool,
 ) -> list[JobOutcome]:
-    """Run ``work(job, run_dir)`` for every job (in order with n_jobs 1, else in joblib
-    workers), with a progress bar; return the outcomes as they finish."""
+    """Run ``work(job, run_dir)`` for every job in ``n_jobs`` isolated local workers (-1: one
+    per core), with a progress bar; the outcomes as they finish (a crash as the job's error)."""
     if not jobs:
         return []
-    if n_jobs == 1:
-        results: Iterable[JobOutcome] = (work(job, run_dir) for job in jobs)
-    else:
-        calls = (delayed(work)(job, run_dir) for job in jobs)
-        results = Parallel(n_jobs=n_jobs, return_as="generator_unordered")(calls)
-    outcomes = []
-    with tqdm(total=len(jobs), desc=label, unit="job", disable=not show_progress) as bar:
-        for outcome in results:
-            outcomes.append(outcome)
-            bar.update()
-    return outcomes
+    execution = Execution(jobs=n_jobs)
+    with open_executor(execution) as executor:
+        results = executor.map(work, jobs, run_dir)
+        return [outcome for _, outcome in _outcomes(label, results, len(jobs), show_progress)]
+
+
+def _job_label(job: HomeJob | DescribeJob) -> str:
+    """What a job is, for messages and failure records."""
+    if isinstance(job, DescribeJob):
+        images = ", ".join(f"({t.i}, {t.j})" for t in job.images)
+        return f"{job.method.label}, images {images}"
+    seed = f", seed {job.seed}" if job.seed is not None else ""
+    seed += f", style {job.style}" if job.style is not None else ""
+    return f"{job.method.label}, {job.condition}, goal ({job.goal.i}, {job.goal.j}){seed}"
+
+
+def _forget(plan: Plan, jobs: Sequence[HomeJob], run_dir: Path) -> None:
+    """--force: remove the results and failure records of ``jobs`` and the plan's features."""
+    for job in jobs:
+        job.result_path(run_dir).unlink(missing_ok=True)
+        clear_failure(run_dir, job.key)
+    for key in {job.method.key for job in plan.describe}:
+        shutil.rmtree(run_dir / "features" / key, ignore_errors=True)
+
+
+def _has_failed_pairs(record: dict[str, Any]) -> bool:
+    return any(row.get("error") for row in record.get("rows", ()))
 
 
 def run_plan(
@@ -154,36 +119,84 @@ def run_plan(
     execution: Execution,
     *,
     force: bool = False,
+    update: bool = False,
+    overrides: Sequence[str] = (),
     show_progress: bool = True,
 ) -> RunOutcome:
-    """Prepare the databases, plan, and run every unfinished job (of the shard) of a config."""
+    """Prepare the databases, plan, and run every unfinished job (of the shard) of a config.
+
+    A folder that holds another config's run is refused unless ``update`` (it becomes this
+    config's run; results whose job keys still match are kept: keys hold everything that
+    determines a result) or ``force`` (every job is recomputed). ``overrides``: the
+    ``key=value`` settings the config was loaded with, recorded in ``environment.json``."""
     run_dir = Path(config.output)
-    run_dir.mkdir(parents=True, exist_ok=True)
-    sources: dict[str, Source] = prepare_sources(config, execution.jobs)
-    plan = make_plan(config, sources, config_path)
-    write_run_metadata(config, config_path, run_dir)
-    write_plan_index(plan, run_dir)
+    with lock_run_folder(run_dir, shared=execution.shard is not None):
+        sources: dict[tuple[str, SweptWorld], Source] = prepare_sources(config, execution.jobs)
+        checks = {source.identity: check_source(source) for source in sources.values()}
+        plan = make_plan(config, sources, config_path)
+        with contextlib.ExitStack() as stack:
+            with claim_run_folder(run_dir):  # limits are execution settings: no part of it
+                resolved = resolve_config(config, execution, Limits())
+                check_owner(run_dir, resolved, force or update)
+                executor = stack.enter_context(open_executor(execution))
+                resolved = resolve_config(config, execution, executor.limits)
+                extra = run_sections(config, execution, force, plan, sources)
+                extra["overrides"]["config"] = list(overrides)
+                extra["data_checks"] = {
+                    identity: check.as_dict() for identity, check in checks.items() if check
+                }
+                write_run_metadata(config, config_path, run_dir, resolved, extra)
+                write_plan_index(plan, run_dir)
+            outcome = _run_jobs(plan, run_dir, execution, executor, force, show_progress)
+    notes = tuple(note for check in checks.values() if check and (note := check.note()))
+    return dataclasses.replace(outcome, notes=notes)
+
+
+def _run_jobs(
+    plan: Plan,
+    run_dir: Path,
+    execution: Execution,
+    executor: Executor,
+    force: bool,
+    show_progress: bool,
+) -> RunOutcome:
+    """Run the shard's home jobs that have no result (nor a failure, unless retrying), after
+    the describe jobs of the images they need; record what failed."""
     mine = [job for job in plan.home if execution.in_shard(job.key)]
     if force:
-        for job in mine:
-            job.result_path(run_dir).unlink(missing_ok=True)
-        for job in plan.describe:
-            for task in job.images:
-                task.feature_path(run_dir, job.method).unlink(missing_ok=True)
-    todo = [job for job in mine if read_result(job.result_path(run_dir), job.key) is None]
+        _forget(plan, mine, run_dir)
+    todo, earlier, reused = [], [], 0
+    for job in mine:
+        record = read_result(job.result_path(run_dir), job.key)
+        failure = read_failure(run_dir, job.key) if record is None else None
+        if record is not None and not (execution.retry_failed and _has_failed_pairs(record)):
+            reused += 1
+        elif failure is not None and not execution.retry_failed:
+            earlier.append(failure)
+        else:
+            todo.append(job)
     needed = {(t, job.method.key) for job in todo for t in (job.goal, *job.currents)}
     describe = [
-        job
+        DescribeJob(job.method, images)
         for job in plan.describe
-        if any(
-            (t, job.method.key) in needed and not t.feature_path(run_dir, job.method).is_file()
-            for t in job.images
-        )
+        if (images := tuple(t for t in job.images if (t, job.method.key) in needed))
     ]
-    with _workers(execution) as n_jobs:
-        described = run_parallel(
-            run_describe_job, describe, run_dir, n_jobs, "describe", show_progress
-        )
-        homed = run_parallel(run_home_job, todo, run_dir, n_jobs, "home", show_progress)
-    errors = tuple(outcome for outcome in (*described, *homed) if outcome.error)
-    return RunOutcome(run_dir, plan, len(todo), len(mine) - len(todo), errors)
+    failures, computed = [*earlier], 0
+    described = executor.map(run_describe_job, describe, run_dir)
+    for job, outcome in _outcomes("describe", described, len(describe), show_progress):
+        if outcome.error is not None:  # reported; the pairs that miss features fail with it
+            failures.append(Failure("describe", job.key, _job_label(job), outcome.error, 1))
+    homed = executor.map(run_home_job, todo, run_dir)
+    for job, outcome in _outcomes("home", homed, len(todo), show_progress):
+        if outcome.error is None:
+            clear_failure(run_dir, job.key)
+            computed += 1
+        else:
+            label = _job_label(job)
+            failures.append(record_failure(run_dir, "home", job.key, label, outcome.error))
+    pending = sum(
+        not (job.result_path(run_dir).exists() or failure_path(run_dir, job.key).exists())
+        for job in plan.home
+        if not execution.in_shard(job.key)
+    )
+    return RunOutcome(run_dir, plan, computed, reused, tuple(failures), pending)

@@ -2,7 +2,10 @@
 
 A :class:`Source` is small and picklable; :func:`open_source` turns it into a
 :class:`~homebench.data.database.GridDatabase` once per process. Generated worlds are generated
-(or found in the cache) when the run is prepared, before any job starts.
+(or found in the cache) when the run is prepared, before any job starts; so are the checks that
+every method can get its kind of image from every database, and that every image the run will
+read is there, in a known format, of the manifest's size and not cut short (read from the
+headers: nothing is decoded).
 """
 
 from __future__ import annotations
@@ -11,16 +14,18 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-from homebench.config import DatabaseRef, RunConfig
+from homebench.config import DatabaseRef, RunConfig, SweptWorld
 from homebench.data import catalog
 from homebench.data.database import GridDatabase
 from homebench.data.generate import generate
+from homebench.data.manifest import KINDS, Manifest
 from homebench.data.synth.spec import WorldSpec
-from homebench.errors import DataError
+from homebench.errors import ConfigError, DataError
 from homebench.geometry import Grid, PanoramaGeometry
 from homebench.hashing import stable_hash
 from homebench.imaging.projection import unfold
 from homebench.imaging.rotation import rotate_view
+from homebench.methods import registry
 from homebench.methods.base import ImageKind, View
 
 
@@ -39,6 +44,7 @@ class Source:
     grid: Grid
     unfold_geometry: PanoramaGeometry | None  # to unfold raw images when there are no unfolded
     seed: int | None = None  # the world's seed for generated sets
+    style: str | None = None  # the world's style for generated sets
 
     @property
     def columns(self) -> int:
@@ -50,24 +56,27 @@ class Source:
         return geometry.width
 
 
-def _with_seed(spec: WorldSpec, seed: int | None) -> WorldSpec:
-    return spec if seed is None else spec.model_copy(update={"seed": seed})
+def _in_world(spec: WorldSpec, world: SweptWorld) -> WorldSpec:
+    """``spec`` with the swept world's style and seed (where swept)."""
+    style, seed = world
+    update = {k: v for k, v in (("style", style), ("seed", seed)) if v is not None}
+    return WorldSpec.model_validate({**spec.model_dump(), **update}) if update else spec
 
 
 def _prepare(
-    alias: str, ref: DatabaseRef, config: RunConfig, jobs: int, seed: int | None
+    alias: str, ref: DatabaseRef, config: RunConfig, jobs: int, world: SweptWorld
 ) -> Source:
     path = ref.path
     if ref.world is not None:
-        locator = str(generate(_with_seed(ref.world, seed), jobs=jobs, name=alias))
+        locator = str(generate(_in_world(ref.world, world), jobs=jobs, name=alias))
         database = catalog.resolve(locator)
     else:
         assert ref.name is not None
         manifest, _ = catalog.find_manifest(ref.name)
         generator = manifest.generator
-        if generator is not None and seed is not None and seed != generator.spec.seed:
-            spec = _with_seed(generator.spec, seed)
-            locator = str(generate(spec, jobs=jobs, name=manifest.name))
+        swept = None if generator is None else _in_world(generator.spec, world)
+        if swept is not None and swept != generator.spec:
+            locator = str(generate(swept, jobs=jobs, name=manifest.name))
             database = catalog.resolve(locator)
         elif generator is not None:
             locator = ref.name
@@ -75,8 +84,8 @@ def _prepare(
         else:
             locator = ref.name
             database = catalog.resolve(locator, path)
-    database.check_layout()
     manifest = database.manifest
+    database.check_images(_kinds_read(config, alias, manifest))
     generator = manifest.generator
     identity = (
         f"{manifest.name}-{generator.spec.key()}"
@@ -92,16 +101,35 @@ def _prepare(
         grid=database.grid,
         unfold_geometry=config.unfold.geometry() if needs_unfold else None,
         seed=generator.spec.seed if generator is not None else None,
+        style=generator.spec.style if generator is not None else None,
     )
 
 
-def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, int | None], Source]:
-    """Sources of every database alias used by a condition, per swept world seed (generating
-    worlds as needed). Keys: (alias, seed), seed None when the config sweeps no seeds."""
+def _kinds_read(config: RunConfig, alias: str, manifest: Manifest) -> tuple[ImageKind, ...]:
+    """The image kinds the config's methods read from database ``alias``: each method's own
+    kind, or raw images to unfold where the database has no unfolded ones (see
+    :func:`database_view`). ConfigError naming the method's label and the database if a method
+    needs raw images and the database has only unfolded ones."""
+    read = set()
+    for label, method, _ in config.method_points():
+        kind = registry.get(method).image_kind
+        if kind not in manifest.kinds and not (kind == "unfolded" and "raw" in manifest.kinds):
+            name = f" ({manifest.name})" if manifest.name != alias else ""
+            raise ConfigError(
+                f"methods: {label!r} ({method}) needs {kind} images, but database {alias!r}{name} "
+                f"has only {' and '.join(manifest.kinds)} images"
+            )
+        read.add(kind if kind in manifest.kinds else "raw")
+    return tuple(kind for kind in KINDS if kind in read)
+
+
+def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, SweptWorld], Source]:
+    """Sources of every database alias used by a condition, per swept world (generating worlds
+    as needed). Keys: (alias, (style, seed)), each None when the config does not sweep it."""
     used = {alias for _, current, goal in config.condition_pairs() for alias in (current, goal)}
     return {
-        (alias, seed): _prepare(alias, ref, config, jobs, seed)
-        for seed in config.world_seeds()
+        (alias, world): _prepare(alias, ref, config, jobs, world)
+        for world in config.worlds()
         for alias, ref in config.databases.items()
         if alias in used
     }

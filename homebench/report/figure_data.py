@@ -63,7 +63,7 @@ def goal_panels(
     ]
     rr_config = metrics.return_ratio
     panels = []
-    for (_, _, method, _, _), field, complete in goal_fields(chosen):
+    for (_, _, _, method, _, _), field, complete in goal_fields(chosen):
         group = chosen[chosen["method"] == method]
         tested = ~np.isnan(_grid_array(group, field.grid.shape, "current_i"))
         failed = np.zeros(field.grid.shape, dtype=bool)

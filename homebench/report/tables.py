@@ -96,9 +96,15 @@ SUMMARY_COLUMNS = {
 }
 
 
+def swept(table: pd.DataFrame) -> list[str]:
+    """The world factors a table varies over ("style", "seed"), for its row labels."""
+    return [c for c in ("style", "seed") if c in table.columns and table[c].notna().any()]
+
+
 def summary_view(summary: pd.DataFrame) -> TableView:
-    """Method x condition summary: AE, AHC, RR, share without estimate, times."""
-    frame = summary[["condition", "method"]].copy()
+    """Method x condition summary (per swept style): AE, AHC, RR, share without estimate,
+    times."""
+    frame = summary[[*swept(summary), "condition", "method"]].copy()
     digits = {}
     for source, (header, rule, scale) in SUMMARY_COLUMNS.items():
         if source in summary.columns:
@@ -117,9 +123,10 @@ def _pivot(table: pd.DataFrame, index: list[str], value: str) -> tuple[pd.DataFr
 
 def rr_by_goal_view(goals: pd.DataFrame) -> TableView:
     """Return ratio per condition and goal, one column per method (Figure 10 as a table)."""
-    wide, methods = _pivot(goals, ["condition", "goal_i", "goal_j"], "rr")
+    factors = swept(goals)
+    wide, methods = _pivot(goals, [*factors, "condition", "goal_i", "goal_j"], "rr")
     goal = [f"({i}, {j})" for i, j in zip(wide["goal_i"], wide["goal_j"], strict=True)]
-    frame = pd.concat([wide[["condition"]], pd.Series(goal, name="goal (i, j)"),
+    frame = pd.concat([wide[[*factors, "condition"]], pd.Series(goal, name="goal (i, j)"),
                        wide[methods]], axis=1)  # fmt: skip
     title = "Return ratio per goal (share of start positions that reach the goal)"
     return make_view("rr_by_goal", title, frame, dict.fromkeys(methods, FIXED3))
@@ -131,7 +138,7 @@ def ahc_by_distance_view(ahc: pd.DataFrame) -> TableView:
     The "all" row (in the summary) and bins without any pair are left out.
     """
     binned = ahc[(ahc["bin"] != "all") & (ahc["n"] > 0)]
-    wide, methods = _pivot(binned, ["condition", "centre_cm"], "ahc")
+    wide, methods = _pivot(binned, [*swept(binned), "condition", "centre_cm"], "ahc")
     wide = wide.rename(columns={"centre_cm": "distance [cm]"})
     digits = {"distance [cm]": FIXED0, **dict.fromkeys(methods, FIXED3)}
     title = "AHC by distance between current and goal position (bin centres)"

@@ -1,0 +1,184 @@
+"""Feature files that cannot execute code: ``.npz`` arrays (no pickles) plus a JSON structure.
+
+A run folder is something people share, so reading one must never run code. What a method's
+``describe`` returns is split into a JSON structure and the numpy arrays it holds:
+
+- None, bool, int, float (NaN and infinities too) and str are JSON values; bytes, numpy arrays
+  and numpy scalars are arrays (dtype kept; object arrays are refused);
+- lists are JSON lists, tuples ``{"tuple": [...]}``, dicts ``{"dict": [[key, value], ...]}`` (any
+  of these as keys);
+- dataclasses ``{"dataclass": "module:Name", "fields": {...}}``, rebuilt only when the name is
+  on the allowlist (homebench's own feature and geometry classes, and classes a plugin
+  registers with :func:`homebench.methods.registry.register_features`). A name read from a file
+  is never imported.
+
+The file is an uncompressed npz: arrays ``a0``, ``a1``, ... and ``structure`` (the JSON text as
+UTF-8 bytes), loaded with ``allow_pickle=False``. It also holds the feature key, so a file of
+other inputs (or a torn, corrupt or crafted one) is refused and its features recomputed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import json
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from homebench.errors import DataError
+from homebench.fileio import write_bytes_atomic
+from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
+from homebench.methods import registry
+from homebench.methods.klt_sector import KltFeatures
+from homebench.methods.sift import SiftFeatures
+
+FORMAT = 1
+#: homebench's own classes that features may hold.
+BUILT_IN = (SiftFeatures, KltFeatures, PanoramaGeometry, CatadioptricGeometry)
+
+
+@dataclass(frozen=True)
+class StoredFeatures:
+    """What a feature file holds: the method's features and the time ``describe`` took."""
+
+    features: Any
+    describe_ms: float
+
+
+def _name(cls: type) -> str:
+    return f"{cls.__module__}:{cls.__qualname__}"
+
+
+def _allowed() -> dict[str, type]:
+    return {_name(cls): cls for cls in (*BUILT_IN, *registry.feature_classes())}
+
+
+class _Encoder:
+    """Turns a value into a JSON structure, collecting its arrays."""
+
+    def __init__(self) -> None:
+        self.arrays: list[np.ndarray] = []
+        self.allowed = _allowed()
+
+    def array(self, value: np.ndarray, tag: str) -> dict[str, int]:
+        if value.dtype.hasobject:
+            raise DataError("features hold an array of Python objects (dtype object)")
+        self.arrays.append(value)
+        return {tag: len(self.arrays) - 1}
+
+    def encode(self, value: Any) -> Any:
+        if isinstance(value, np.ndarray | np.generic):  # before float: np.float64 is a float
+            return self.array(
+                np.asarray(value), "scalar" if isinstance(value, np.generic) else "array"
+            )
+        if value is None or isinstance(value, bool | int | float | str):
+            return value
+        if isinstance(value, bytes):
+            return self.array(np.frombuffer(value, dtype=np.uint8), "bytes")
+        if isinstance(value, list):
+            return [self.encode(v) for v in value]
+        if isinstance(value, tuple):
+            return {"tuple": [self.encode(v) for v in value]}
+        if isinstance(value, dict):
+            return {"dict": [[self.encode(k), self.encode(v)] for k, v in value.items()]}
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            name = _name(type(value))
+            if name not in self.allowed:
+                raise DataError(
+                    f"features of type {name} cannot be stored: register the class with "
+                    "homebench.methods.registry.register_features"
+                )
+            fields = {
+                f.name: self.encode(getattr(value, f.name)) for f in dataclasses.fields(value)
+            }
+            return {"dataclass": name, "fields": fields}
+        raise DataError(f"features of type {type(value).__name__} cannot be stored")
+
+
+class _Decoder:
+    """Rebuilds a value from its JSON structure and arrays."""
+
+    def __init__(self, arrays: dict[str, np.ndarray]):
+        self.arrays = arrays
+        self.allowed = _allowed()
+
+    def decode(self, node: Any) -> Any:
+        if isinstance(node, list):
+            return [self.decode(v) for v in node]
+        if not isinstance(node, dict):
+            return node
+        tags = set(node)
+        if tags == {"array"}:
+            return self.arrays[f"a{node['array']}"]
+        if tags == {"scalar"}:
+            return self.arrays[f"a{node['scalar']}"][()]
+        if tags == {"bytes"}:
+            return self.arrays[f"a{node['bytes']}"].tobytes()
+        if tags == {"tuple"}:
+            return tuple(self.decode(v) for v in node["tuple"])
+        if tags == {"dict"}:
+            return {_hashable(self.decode(k)): self.decode(v) for k, v in node["dict"]}
+        if tags == {"dataclass", "fields"}:
+            return self.dataclass(node["dataclass"], node["fields"])
+        raise ValueError(f"unknown structure {sorted(tags)}")
+
+    def dataclass(self, name: str, fields: dict[str, Any]) -> Any:
+        cls = self.allowed.get(name)
+        if cls is None:
+            raise ValueError(f"class {name} is not allowed in feature files")
+        values = {key: self.decode(value) for key, value in fields.items()}
+        init = {f.name for f in dataclasses.fields(cls) if f.init}
+        instance = cls(**{k: v for k, v in values.items() if k in init})
+        for key in values.keys() - init:
+            object.__setattr__(instance, key, values[key])
+        return instance
+
+
+def _hashable(key: Any) -> Any:
+    if isinstance(key, list | dict | np.ndarray):
+        raise ValueError("a dict key must be hashable")
+    return key
+
+
+def save_features(path: Path, key: str, features: Any, describe_ms: float) -> None:
+    """Write ``features`` (and the time ``describe`` took) under ``key`` to ``path``,
+    atomically; DataError for features that cannot be stored."""
+    encoder = _Encoder()
+    structure = {
+        "format": FORMAT,
+        "key": key,
+        "describe_ms": describe_ms,
+        "features": encoder.encode(features),
+    }
+    arrays = {f"a{k}": array for k, array in enumerate(encoder.arrays)}
+    arrays["structure"] = np.frombuffer(json.dumps(structure).encode(), dtype=np.uint8)
+    buffer = io.BytesIO()
+    np.savez(buffer, allow_pickle=False, **arrays)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_bytes_atomic(path, buffer.getvalue())
+
+
+def load_features(path: Path, key: str) -> StoredFeatures:
+    """The features stored under ``key`` in ``path``; DataError naming the file when it is
+    missing, corrupt, of another key or format, or holds anything but plain data."""
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        structure = json.loads(arrays.pop("structure").tobytes())
+        if structure.get("format") != FORMAT or structure.get("key") != key:
+            raise ValueError("written for other inputs")
+        features = _Decoder(arrays).decode(structure["features"])
+        return StoredFeatures(features, float(structure["describe_ms"]))
+    except FileNotFoundError:
+        raise DataError(f"{path}: feature file missing") from None
+    except (
+        OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError,
+        zipfile.BadZipFile,
+    ) as error:  # fmt: skip
+        raise DataError(
+            f"{path}: unusable feature file ({type(error).__name__}: {error})"
+        ) from None

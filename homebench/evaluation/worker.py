@@ -1,0 +1,75 @@
+"""One isolated worker process: receive a call, run it, send back its result; repeat.
+
+Started by :mod:`homebench.evaluation.isolation` as ``python -m homebench.evaluation.worker FD
+MEMORY_MB PARENT_PID``, with one thread per numeric library in its environment (parallelism
+comes from the job level; one thread keeps results equal for any number of workers). It imports
+nothing heavy itself: the calls it receives import what they need, once per worker.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import importlib
+import os
+import pickle
+import signal
+import sys
+import threading
+import time
+import traceback
+from multiprocessing.connection import Connection
+
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def _poll_parent(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(0.2)
+    os._exit(0)
+
+
+def _die_with_parent(parent: int) -> None:
+    """End with the parent (a killed run must not leave workers computing): on Linux the kernel
+    kills the worker when the parent dies, elsewhere a thread watches the parent."""
+    try:
+        linux = ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL) == 0
+    except AttributeError:  # no prctl: not Linux
+        linux = False
+    if not linux:
+        threading.Thread(target=_poll_parent, args=(parent,), daemon=True).start()
+    if os.getppid() != parent:  # the parent died before the kernel was told
+        os._exit(0)
+
+
+def serve(conn: Connection, memory_mb: int, parent: int) -> None:
+    """Take the parent's ``sys.path`` and import the modules it names (before the first call,
+    so that no call's timeout pays for them); then run ``(function, args)`` calls until the
+    connection closes, replying ``("ok", result)``, or ``("raised", text)`` for anything the
+    call raised that it did not handle itself (SystemExit included)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    if memory_mb > 0:
+        import resource
+
+        limit = memory_mb * 1024 * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    _die_with_parent(parent)
+    sys.path[:], preload = conn.recv()
+    for module in preload:
+        importlib.import_module(module)
+    conn.send(("ready", os.getpid()))
+    while True:
+        try:
+            message = conn.recv_bytes()
+        except EOFError:
+            return
+        try:
+            function, args = pickle.loads(message)
+            reply = ("ok", function(*args))
+        except BaseException as error:  # noqa: BLE001  (the job failed, the worker goes on)
+            reply = ("raised", "".join(traceback.format_exception_only(error)).strip())
+        conn.send(reply)
+
+
+if __name__ == "__main__":
+    fd, memory, parent_pid = (int(arg) for arg in sys.argv[1:4])
+    serve(Connection(fd), memory, parent_pid)

@@ -1,0 +1,106 @@
+"""Job and feature keys hold everything that determines a result: the method's code version,
+the images' content and the parameters. A changed method or image recomputes; the rest is
+reused."""
+
+from __future__ import annotations
+
+import shutil
+import textwrap
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from conftest import arena_config, run_config
+from plugins import install_plugin
+
+from homebench.evaluation.code_version import code_version, source_closure
+from homebench.fileio import read_grey, write_png
+from homebench.methods import registry
+
+
+def _config(folder: Path, manifest: Path, method: str) -> dict:
+    methods = [{"method": method}, {"method": "warping", "params": {"n_rho": 4}}]
+    return arena_config(folder, manifest, methods=methods)
+
+
+def test_an_edited_plugin_recomputes_and_an_unchanged_one_does_not(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    plugin = install_plugin(tmp_path / "plugin", monkeypatch)
+    config = _config(tmp_path, arena_manifest, plugin.method)
+    assert run_config(tmp_path, config).exit_code == 0
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0 and "0 job(s) computed, 4 reused" in result.stdout
+    before = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
+    source = plugin.path.read_text()
+    plugin.path.write_text(source.replace("angle=0.1", "angle=0.2"))
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    assert "2 job(s) computed, 2 reused" in result.stdout
+    after = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
+    faulty = after["method"] == plugin.method
+    assert (after.loc[faulty, "estimate"] == 0.2).all()
+    assert (before.loc[faulty, "estimate"] == 0.1).all()
+
+
+def test_a_changed_image_recomputes_the_jobs_that_see_it(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    database = tmp_path / "arena"
+    shutil.copytree(arena_manifest.parent, database)
+    config = arena_config(tmp_path, database / "manifest.yaml", goals=[[0, 0]])
+    assert run_config(tmp_path, config).exit_code == 0
+    image = database / "pano" / "p2-3.png"
+    write_png(image, 255 - read_grey(image))
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    assert "2 job(s) computed, 0 reused" in result.stdout
+
+
+def _package(root: Path, files: dict[str, str]) -> None:
+    for name, text in files.items():
+        path = root / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(textwrap.dedent(text))
+
+
+def test_source_closure_follows_imports_within_the_package_only(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _package(
+        tmp_path,
+        {
+            "toypkg/__init__.py": "",
+            "toypkg/method.py": """
+                import os
+                from toypkg import helper
+                from .sub.deep import thing
+
+                def run():
+                    import toypkg.lazy
+            """,
+            "toypkg/helper.py": "from . import base\n",
+            "toypkg/base.py": "X = 1\n",
+            "toypkg/lazy.py": "",
+            "toypkg/sub/__init__.py": "",
+            "toypkg/sub/deep.py": "thing = 2\n",
+            "toypkg/unrelated.py": "import toypkg.method\n",
+        },
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    closure = source_closure("toypkg.method")
+    assert sorted(closure) == [
+        "toypkg.base",
+        "toypkg.helper",
+        "toypkg.lazy",
+        "toypkg.method",
+        "toypkg.sub.deep",
+    ]
+
+
+def test_builtin_code_version_is_the_package_version_and_a_source_hash() -> None:
+    version = code_version(registry.get("warping"))
+    assert version.startswith("homebench ")
+    assert version == code_version(registry.get("warping"))
+    assert version != code_version(registry.get("sift"))
+    assert "homebench.methods.sift" not in source_closure("homebench.methods.warping")
