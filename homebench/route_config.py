@@ -24,6 +24,7 @@ the experiment starts.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -46,6 +47,10 @@ class _Strict(BaseModel):
 class RouteSpec(_Strict):
     """An outbound route: ``waypoints`` (metres, home first) driven in order.
 
+    ``frame``: ``world`` (the waypoints are world coordinates) or ``grid`` (metres from the
+    capture grid's origin, position (0, 0): one route then fits every generated style, whose
+    grids are centred in rooms of different sizes).
+
     ``heading_deg``: the robot's heading at home (default: along the first segment).
     ``lengths`` (metres): one trial per length, driving the route's first metres; default: one
     trial over the whole route. ``repeats``: trials per length, each with its own noise.
@@ -53,6 +58,7 @@ class RouteSpec(_Strict):
 
     name: str
     waypoints: list[tuple[float, float]] = Field(min_length=2)
+    frame: Literal["world", "grid"] = "world"
     heading_deg: float | None = None
     lengths: list[Annotated[float, Field(gt=0)]] | None = None
     repeats: int = Field(1, ge=1)
@@ -77,6 +83,14 @@ class RouteSpec(_Strict):
         if too_long:
             raise ValueError(f"length {too_long[0]} m exceeds the route's {self.length:.3f} m")
         return self
+
+    def in_world(self, grid_origin: tuple[float, float]) -> RouteSpec:
+        """This route with world-frame waypoints (``grid_origin``: the capture grid's, metres)."""
+        if self.frame == "world":
+            return self
+        x0, y0 = grid_origin
+        waypoints = [(x + x0, y + y0) for x, y in self.waypoints]
+        return self.model_copy(update={"waypoints": waypoints, "frame": "world"})
 
     def trial_lengths(self) -> list[float]:
         return list(self.lengths) if self.lengths else [self.length]
@@ -136,6 +150,7 @@ class RouteConfig(_Strict):
         return KltTracker(**self.tracker)
 
 
-def load_route_config(path: Path) -> RouteConfig:
-    """Read and validate a route config; problems are ConfigErrors naming file and key."""
-    return load_model(RouteConfig, path, what="config")
+def load_route_config(path: Path, overrides: Sequence[str] = ()) -> RouteConfig:
+    """Read and validate a route config with ``key.path=value`` ``overrides``; problems are
+    ConfigErrors naming file and key."""
+    return load_model(RouteConfig, path, what="config", overrides=overrides)

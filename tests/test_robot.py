@@ -40,9 +40,23 @@ def test_steer_respects_the_limits_and_lands_on_the_target() -> None:
     assert steer(0.0, 0.02, LIMITS) == Motion(0.0, 0.02)  # the last step is exact
     behind = steer(math.radians(170.0), 1.0, LIMITS)
     assert behind.turn == pytest.approx(math.radians(10.0)) and behind.forward == 0.0
-    right = steer(math.radians(-30.0), 1.0, LIMITS)
-    assert right.turn == pytest.approx(math.radians(-10.0))
-    assert right.forward == pytest.approx(0.05 * math.cos(math.radians(20.0)))
+    right = steer(math.radians(-30.0), 1.0, LIMITS)  # turns on the spot first
+    assert right.turn == pytest.approx(math.radians(-10.0)) and right.forward == 0.0
+    slight = steer(math.radians(-7.0), 1.0, LIMITS)  # within one turn: onto it, then straight
+    assert slight.turn == pytest.approx(math.radians(-7.0)) and slight.forward == 0.05
+
+
+def test_a_target_straight_behind_is_turned_to_one_way_not_rocked_at() -> None:
+    """A U-turn: the wrapped direction of a target behind flips between +pi and -pi with
+    rounding; the robot must keep turning one way and reach it (it rocked on the spot)."""
+    for almost_pi in (math.pi - 1e-12, -math.pi, -math.pi + 1e-12):
+        assert steer(almost_pi, 1.0, LIMITS).turn == pytest.approx(math.radians(10.0))
+    slow = MotionLimits(step_length=0.05, max_turn_deg=3.75)  # the paper's 3 deg/s, 0.8 fps
+    robot = Robot.at(Pose(0.5, 4.5, 0.0), DriftModel(), np.random.default_rng(0))
+    robot.execute(Motion(math.pi / 2, 0.0))  # facing +y; the target lies straight behind
+    steps = sum(1 for _ in drive_to(robot, (0.5, 3.5), slow, by_odometry=False, tolerance=0.01))
+    assert steps == 47 + 20  # 47 turns on the spot; the 48th turn starts the 20 steps of 5 cm
+    assert math.dist(robot.pose.xy, (0.5, 3.5)) <= 0.01
 
 
 def test_zero_drift_gives_exact_dead_reckoning() -> None:

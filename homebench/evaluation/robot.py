@@ -98,12 +98,19 @@ class MotionLimits(_Frozen):
 def steer(direction: float, distance: float, limits: MotionLimits) -> Motion:
     """The step towards ``direction`` (robot frame, rad) for at most ``distance`` metres.
 
-    Turns as far as the limit allows, then drives the part of the step that lies along the
-    wanted direction (nothing while it still points more than 90 degrees away).
+    A differential-drive robot: it turns on the spot, as far as the limit allows, until the
+    direction lies within one turn; that step it turns onto it and drives straight. (Driving
+    part of a step while still turning makes arcs whose radius, at a slow turn rate, exceeds
+    the distance left: the robot then circles its target.) A direction within one turn of
+    straight behind is turned to counter-clockwise: its wrapped sign would flip from frame to
+    frame and the robot would rock on the spot.
     """
-    turn = float(np.clip(wrap_angle(direction), -limits.max_turn, limits.max_turn))
-    along = math.cos(float(angle_diff(direction, turn)))
-    return Motion(turn, min(limits.step_length, max(distance, 0.0)) * max(along, 0.0))
+    wanted = float(wrap_angle(direction))
+    if abs(wanted) > math.pi - limits.max_turn:
+        wanted = abs(wanted)
+    if abs(wanted) > limits.max_turn:
+        return Motion(math.copysign(limits.max_turn, wanted), 0.0)
+    return Motion(wanted, min(limits.step_length, max(distance, 0.0)))
 
 
 @dataclass

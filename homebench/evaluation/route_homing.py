@@ -45,7 +45,7 @@ from homebench.evaluation.runner import run_parallel, write_run_metadata
 from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
-from homebench.route_config import RouteConfig
+from homebench.route_config import RouteConfig, RouteSpec
 
 #: Bump when a trial's result changes for an unchanged config (invalidates finished trials).
 ROUTE_FORMAT = 1
@@ -70,6 +70,18 @@ class RouteTrial:
         return Pose(*self.waypoints[0], self.heading)
 
 
+def world_routes(config: RouteConfig) -> list[RouteSpec]:
+    """The config's routes with world-frame waypoints (grid-frame ones placed on the scene's
+    capture grid; a database is opened only when a route needs its grid)."""
+    if all(route.frame == "world" for route in config.routes):
+        return list(config.routes)
+    if config.database is None:
+        origin = config.world.to_grid().origin
+    else:
+        origin = route_scene(config).grid_origin
+    return [route.in_world(origin) for route in config.routes]
+
+
 def plan_trials(config: RouteConfig) -> list[RouteTrial]:
     """Every (route, length, repeat) of the config, in order.
 
@@ -77,7 +89,7 @@ def plan_trials(config: RouteConfig) -> list[RouteTrial]:
     has ``repeats`` > 1.
     """
     trials = []
-    for route in config.routes:
+    for route in world_routes(config):
         for length in route.trial_lengths():
             points = route_prefix(route.waypoints, length)
             waypoints = tuple((float(x), float(y)) for x, y in points)
@@ -118,7 +130,7 @@ class RouteJob:
 def check_routes(config: RouteConfig, scene: RouteScene, config_path: Path) -> None:
     """ConfigError naming the route unless the scene can show every point along it."""
     for k, route in enumerate(config.routes):
-        points = np.asarray(route.waypoints, dtype=np.float64)
+        points = np.asarray(route.in_world(scene.grid_origin).waypoints, dtype=np.float64)
         for a, b in zip(points[:-1], points[1:], strict=True):
             n = max(1, math.ceil(math.dist(a, b) / CHECK_SPACING))
             for x, y in a + np.linspace(0.0, 1.0, n + 1)[:, None] * (b - a):

@@ -34,12 +34,14 @@ class RouteScene:
     """How the robot sees (unfolded panoramas of ``geometry``) and where it may go.
 
     ``render(pose, noise_seed)`` gives the panorama at ``pose``; ``check_pose`` raises PoseError
-    for a pose the scene cannot show.
+    for a pose the scene cannot show; ``grid_origin`` is the capture grid's origin (metres),
+    which routes given in the grid frame start from.
     """
 
     geometry: PanoramaGeometry
     render: Callable[[Pose, int], NDArray[np.uint8]]
     check_pose: Callable[[Pose], None]
+    grid_origin: tuple[float, float]
 
     def camera(self, seed: int, phase: str) -> Camera:
         """Frame k at ``pose``, its sensor noise seeded by (seed, phase, k)."""
@@ -56,6 +58,7 @@ def world_scene(spec: WorldSpec) -> RouteScene:
         world.unfolded_geometry,
         lambda pose, noise_seed: world.render(pose, noise_seed)["unfolded"],
         world.check_pose,
+        spec.to_grid().origin,
     )
 
 
@@ -91,7 +94,7 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> RouteSc
         columns = round(turn / geometry.column_step)
         return rotate_view(view, columns * geometry.column_step).image if columns else view.image
 
-    return RouteScene(geometry, render, check_pose)
+    return RouteScene(geometry, render, check_pose, grid.origin)
 
 
 def route_scene(config: RouteConfig) -> RouteScene:

@@ -1,0 +1,145 @@
+"""The papers' findings as tested claims, on synthetic tables whose truth is known."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from homebench.evaluation.findings import (
+    FAR_RANGE_M,
+    findings_table,
+    route_findings,
+    sift_findings,
+)
+
+CONDITIONS = ("original-original", "original-arboreal", "original-day")
+N_GOALS, N_CURRENTS = 12, 30
+
+
+def _tables(mean_ae_deg, rr, seed: int = 0) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Pairs and RR starts of P, PN and W under the three conditions, 12 goals each.
+
+    ``mean_ae_deg(method, condition, far)`` and ``rr(method, condition)`` give each cell's
+    truth; every goal adds its own offset (goal-level noise, shared by the methods)."""
+    rng = np.random.default_rng(seed)
+    pairs, starts = [], []
+    goal_offset = rng.normal(0, 2.0, N_GOALS)
+    distance = np.linspace(0.3, 3.9, N_CURRENTS)
+    for condition in CONDITIONS:
+        for method in ("P", "PN", "W"):
+            for g in range(N_GOALS):
+                far = distance >= FAR_RANGE_M
+                truth = np.array([mean_ae_deg(method, condition, f) for f in far])
+                ae = np.abs(truth + goal_offset[g] + rng.normal(0, 3.0, N_CURRENTS))
+                pairs.append(
+                    pd.DataFrame(
+                        {
+                            "seed": 0,
+                            "condition": condition,
+                            "method": method,
+                            "goal_i": g,
+                            "goal_j": 0,
+                            "current_i": np.arange(N_CURRENTS),
+                            "current_j": 1,
+                            "ae": np.radians(np.minimum(ae, 180)),
+                            "distance_m": distance,
+                        }
+                    )
+                )
+                success = rng.random(N_CURRENTS) < rr(method, condition)
+                starts.append(
+                    pd.DataFrame(
+                        {
+                            "seed": 0,
+                            "condition": condition,
+                            "method": method,
+                            "goal_i": g,
+                            "goal_j": 0,
+                            "start_i": np.arange(N_CURRENTS),
+                            "start_j": 1,
+                            "success": success,
+                        }
+                    )
+                )
+    return pd.concat(pairs, ignore_index=True), pd.concat(starts, ignore_index=True)
+
+
+def _paper_world(method: str, condition: str, far: bool) -> float:
+    """The paper's picture: P best (but worse than W far away), elimination helps, W
+    collapses under day."""
+    if far:
+        return {"P": 45.0, "PN": 55.0, "W": 15.0 if condition != "original-day" else 70.0}[method]
+    base = {"P": 5.0, "PN": 12.0, "W": 15.0}[method]
+    return base + (55.0 if method == "W" and condition == "original-day" else 0.0)
+
+
+def _paper_rr(method: str, condition: str) -> float:
+    return {"P": 0.97, "PN": 0.85, "W": 0.7 if condition != "original-day" else 0.2}[method]
+
+
+def test_the_paper_world_confirms_every_claim():
+    pairs, starts = _tables(_paper_world, _paper_rr)
+    table = findings_table(sift_findings(pairs, starts)).set_index("finding")
+    assert set(table["verdict"]) == {"holds"}, table[["effect", "lo", "hi", "p_holm", "verdict"]]
+    assert (table["place"] == "all").all() and (table["clusters"] == N_GOALS).all()
+    assert (table["lo"] > 0).all()
+    # 12 goals: the exact sign-flip test's smallest p is 2 / 2**12
+    assert table["p"].min() == pytest.approx(2 / 2**12)
+
+
+def test_equal_methods_are_not_significant_and_reversals_are_opposite():
+    """PN equal to P: elimination claims not significant. W better than P everywhere: the
+    P-beats-W claims come out opposite."""
+
+    def world(method: str, condition: str, far: bool) -> float:
+        return {"P": 20.0, "PN": 20.0, "W": 8.0}[method]
+
+    pairs, starts = _tables(world, lambda m, c: {"P": 0.8, "PN": 0.8, "W": 0.95}[m])
+    table = findings_table(sift_findings(pairs, starts)).set_index("finding")
+    for condition in CONDITIONS:
+        assert table.loc[f"P<PN AE {condition}", "verdict"] == "not significant"
+        assert table.loc[f"P<W AE {condition}", "verdict"] == "opposite"
+        assert table.loc[f"P>W RR {condition}", "verdict"] == "opposite"
+    assert table.loc["day hits W harder", "verdict"] == "not significant"
+
+
+def test_findings_are_reported_per_style_and_are_deterministic():
+    a = _tables(_paper_world, _paper_rr, seed=1)
+    b = _tables(lambda m, c, f: {"P": 20.0, "PN": 20.0, "W": 8.0}[m], _paper_rr, seed=2)
+    pairs = pd.concat([a[0].assign(style="lab"), b[0].assign(style="posters")])
+    starts = pd.concat([a[1].assign(style="lab"), b[1].assign(style="posters")])
+    table = findings_table(sift_findings(pairs, starts))
+    assert sorted(table["place"].unique()) == ["lab", "posters"]
+    by_place = table.set_index(["place", "finding"])["verdict"]
+    assert by_place[("lab", "P<W AE original-day")] == "holds"
+    assert by_place[("posters", "P<W AE original-day")] == "opposite"
+    shuffled = [frame.sample(frac=1.0, random_state=3) for frame in (pairs, starts)]
+    again = findings_table(sift_findings(*shuffled))
+    pd.testing.assert_frame_equal(table, again)
+
+
+def _routes(visual_slope: float, seed: int = 0) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    rows = []
+    for k, length in enumerate(np.repeat([2.0, 4.0, 6.0, 8.0, 10.0], 4)):
+        rows.append(
+            {
+                "seed": 0,
+                "trial": f"tour-{length:g}m-r{k % 4}",
+                "length_m": length,
+                "visual_error_m": 0.006 + visual_slope * length + rng.normal(0, 0.001),
+                "odometry_error_m": 0.1 * length + abs(rng.normal(0, 0.05)),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def test_route_findings():
+    table = findings_table(route_findings(_routes(0.0))).set_index("finding")
+    assert table.loc["visual<odometry", "verdict"] == "holds"
+    assert table.loc["odometry grows", "verdict"] == "holds"
+    assert table.loc["visual flat", "verdict"] == "holds"  # the slope's interval under 1 mm/m
+    assert table.loc["odometry grows", "effect"] == pytest.approx(10.0, rel=0.1)  # cm per m
+    growing = findings_table(route_findings(_routes(0.005))).set_index("finding")
+    assert growing.loc["visual flat", "verdict"] == "opposite"  # 5 mm per m
