@@ -184,6 +184,7 @@ def methods() -> None:
 def _format_summary(summary: Any) -> str:
     shown = summary.copy()
     columns = {
+        "style": "style",
         "condition": "condition",
         "method": "method",
         "pairs": "pairs",

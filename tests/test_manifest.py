@@ -104,8 +104,10 @@ def test_shipped_manifests_load(path: Path) -> None:
 def test_shipped_manifests_cover_the_sets() -> None:
     names = {p.stem for p in SHIPPED_MANIFESTS.glob("*.yaml")}
     bielefeld = {f"bielefeld-{v}" for v in ("original", "arboreal", "chairs", "day")}
-    synth = {f"synth-{v}" for v in ("original", "arboreal", "chairs", "day", "twilight", "winlit")}
-    assert names == bielefeld | synth
+    variants = ("original", "arboreal", "chairs", "day", "twilight", "winlit")
+    synth = {f"synth-{v}" for v in variants}  # the poster room
+    styles = {f"synth-{s}-{v}" for s in ("lab", "corridor", "outdoor") for v in variants}
+    assert names == bielefeld | synth | styles
 
 
 @pytest.mark.parametrize(

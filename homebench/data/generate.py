@@ -12,6 +12,7 @@ import hashlib
 import json
 import math
 import os
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Protocol
@@ -202,16 +203,19 @@ def _build(
     files: dict[str, dict[str, str | None]] = {"raw": {}, "unfolded": {}}
     prints: dict[str, dict[str, str]] = {"raw": {}, "unfolded": {}}
     done = 0
-    results = Parallel(n_jobs=n_jobs, return_as="generator")(
-        delayed(_render_batch)(renderer, spec, folder, batch, n_jobs > 1) for batch in batches
-    )
-    for batch, written in zip(batches, results, strict=True):
-        for kind, file_name, digest, content in written:
-            files[kind][file_name] = digest
-            prints[kind][file_name] = content
-        done += len(batch)
-        if progress is not None:
-            progress(done, len(positions))
+    with warnings.catch_warnings():
+        # loky replaces a worker whose memory grew (a world's textures: ~250 MB) and says so
+        warnings.filterwarnings("ignore", "A worker stopped while some jobs", UserWarning)
+        results = Parallel(n_jobs=n_jobs, return_as="generator")(
+            delayed(_render_batch)(renderer, spec, folder, batch, n_jobs > 1) for batch in batches
+        )
+        for batch, written in zip(batches, results, strict=True):
+            for kind, file_name, digest, content in written:
+                files[kind][file_name] = digest
+                prints[kind][file_name] = content
+            done += len(batch)
+            if progress is not None:
+                progress(done, len(positions))
     files = {kind: dict(sorted(names.items())) for kind, names in files.items()}
     prints = {kind: dict(sorted(names.items())) for kind, names in prints.items()}
     truth = _ground_truth(spec, renderer)

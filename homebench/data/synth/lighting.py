@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.data.synth.scene import Scene, Surface
+from homebench.data.synth.spec import Variant
 
 FloatArray = NDArray[np.float64]
 LIGHTMAP_STEP = 4
@@ -83,6 +84,25 @@ class Lighting:
     window_glow: float  # luminance of the view outside when the curtains are open
     curtains_open: bool
     sky: Sky | None = None  # an open sky above the scene (outdoors)
+
+
+#: The indoor styles' luminaires on, curtains or blinds shut (their original light).
+LIGHTS_ON = Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False)
+
+
+def indoor_lightings(
+    day: Lighting, twilight: Lighting, winlit: Lighting
+) -> dict[Variant, Lighting]:
+    """An indoor style's lighting per variant: the luminaires on for ``original`` and the
+    object variants (they change what is there, not the light), and the three daylight ones."""
+    return {
+        "original": LIGHTS_ON,
+        "arboreal": LIGHTS_ON,
+        "chairs": LIGHTS_ON,
+        "day": day,
+        "twilight": twilight,
+        "winlit": winlit,
+    }
 
 
 def _emitters(

@@ -41,7 +41,7 @@ from homebench.data.synth.layout import (
     furnish,
     waste_bin,
 )
-from homebench.data.synth.lighting import Lighting
+from homebench.data.synth.lighting import Lighting, indoor_lightings
 from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene, Surface, Window, texture_shape
 from homebench.data.synth.spec import Variant
 from homebench.data.synth.walls import (
@@ -60,18 +60,14 @@ from homebench.data.synth.walls import (
 )
 from homebench.geometry import Grid
 
-_LIGHTS_ON = Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False)
 #: Light of each variant (intensities in the lighting model's units, see ``lighting.py``). The
 #: ambient (inter-reflected) light of the daylight-only variants is about half the poster
 #: room's: one end window lights 220 m^2 of walls, floor and ceiling.
-LIGHTINGS: dict[Variant, Lighting] = {
-    "original": _LIGHTS_ON,
-    "arboreal": _LIGHTS_ON,
-    "chairs": _LIGHTS_ON,
-    "day": Lighting(130.0, 230.0, 2200.0, 1100.0, 600.0, 1500.0, True),
-    "twilight": Lighting(4.0, 0.0, 30.0, 0.0, 0.0, 25.0, True),
-    "winlit": Lighting(30.0, 0.0, 800.0, 0.0, 0.0, 700.0, True),
-}
+LIGHTINGS: dict[Variant, Lighting] = indoor_lightings(
+    day=Lighting(130.0, 230.0, 2200.0, 1100.0, 600.0, 1500.0, True),
+    twilight=Lighting(4.0, 0.0, 30.0, 0.0, 0.0, 25.0, True),
+    winlit=Lighting(30.0, 0.0, 800.0, 0.0, 0.0, 700.0, True),
+)
 #: Pitches of the doors along the corridor (office modules of 1.25 m: 2, 2.4 or 3 modules), m.
 DOOR_PITCHES = (2.5, 3.0, 3.75)
 

@@ -46,7 +46,7 @@ from homebench.data.synth.layout import (
     furnish,
     waste_bin,
 )
-from homebench.data.synth.lighting import Lighting
+from homebench.data.synth.lighting import Lighting, indoor_lightings
 from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene, Surface, Window, texture_shape
 from homebench.data.synth.spec import Variant
 from homebench.data.synth.walls import (
@@ -66,18 +66,14 @@ from homebench.data.synth.walls import (
 )
 from homebench.geometry import Grid
 
-_LIGHTS_ON = Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False)
 #: Light of each variant (intensities in the lighting model's units, see ``lighting.py``). The
 #: luminaires are the poster room's; each of the 2-4 windows gives less diffuse daylight than
 #: each of the poster room's 1-2, for about the same daylight in all.
-LIGHTINGS: dict[Variant, Lighting] = {
-    "original": _LIGHTS_ON,
-    "arboreal": _LIGHTS_ON,
-    "chairs": _LIGHTS_ON,
-    "day": Lighting(130.0, 230.0, 1600.0, 1100.0, 600.0, 1500.0, True),
-    "twilight": Lighting(8.0, 0.0, 25.0, 0.0, 0.0, 25.0, True),
-    "winlit": Lighting(60.0, 0.0, 600.0, 0.0, 0.0, 700.0, True),
-}
+LIGHTINGS: dict[Variant, Lighting] = indoor_lightings(
+    day=Lighting(130.0, 230.0, 1600.0, 1100.0, 600.0, 1500.0, True),
+    twilight=Lighting(8.0, 0.0, 25.0, 0.0, 0.0, 25.0, True),
+    winlit=Lighting(60.0, 0.0, 600.0, 0.0, 0.0, 700.0, True),
+)
 
 
 def _facade(

@@ -26,7 +26,7 @@ from homebench.data.synth.layout import (
     table,
     waste_bin,
 )
-from homebench.data.synth.lighting import Lighting
+from homebench.data.synth.lighting import Lighting, indoor_lightings
 from homebench.data.synth.scene import (
     TEXELS_PER_METRE,
     Room,
@@ -48,14 +48,11 @@ from homebench.data.synth.walls import (
 from homebench.geometry import Grid
 
 #: Light of each variant (intensities in the lighting model's units, see ``lighting.py``).
-LIGHTINGS: dict[Variant, Lighting] = {
-    "original": Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False),
-    "arboreal": Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False),
-    "chairs": Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False),
-    "day": Lighting(120.0, 230.0, 2200.0, 1100.0, 600.0, 1500.0, True),
-    "twilight": Lighting(8.0, 0.0, 30.0, 0.0, 0.0, 25.0, True),
-    "winlit": Lighting(60.0, 0.0, 800.0, 0.0, 0.0, 700.0, True),
-}
+LIGHTINGS: dict[Variant, Lighting] = indoor_lightings(
+    day=Lighting(120.0, 230.0, 2200.0, 1100.0, 600.0, 1500.0, True),
+    twilight=Lighting(8.0, 0.0, 30.0, 0.0, 0.0, 25.0, True),
+    winlit=Lighting(60.0, 0.0, 800.0, 0.0, 0.0, 700.0, True),
+)
 
 
 def _paint_walls(rng: np.random.Generator, room: Room) -> tuple[Surface, list[Window]]:
