@@ -1,34 +1,48 @@
-"""Seed 001's findings on the generated worlds (slow: the full experiment, about a minute).
+"""Seed 001's findings that hold in every world style (slow: about 15 minutes on 2 cores).
 
-Run with ``pytest -m slow``. Measured on the reference machine (AHC / mean RR over the five
-goals): original-original P 0.973 / 0.996, PN 0.965 / 0.995, W 0.935 / 0.913; original-day
-P 0.948 / 0.969, W -0.067 / 0.024.
+Run with ``pytest -m slow``. The reference run of ``configs/findings_sift.yaml`` (4 styles x 3
+seeded worlds x 10 goals; ``reports/README.md``) tested each finding per style with goal-level
+sign-flip tests, Holm-corrected within the style. Only the findings that held there in **every**
+style are asserted here, at the same level (alpha = 0.05), on two worlds per style (20 goals):
+
+- mismatch elimination lowers the AE under original-original (P below PN);
+- P's AHC and W's AHC stay above 0 under original-original and original-arboreal.
+
+The others depend on the place and are not asserted: P errs less than W only outdoors (the
+opposite holds in the poster room, the lab and the corridor), the illumination change hurts W
+more than P except (not significantly) in the lab, and W beats P at 360-390 cm in the lab and
+the corridor but not outdoors. A finding that depends on the style is a result, not a failure.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import pandas as pd
 import pytest
 import yaml
 from conftest import run_config
 
-CONFIG = Path(__file__).parent.parent / "configs" / "sift_paper.yaml"
+from homebench.evaluation.findings import ALPHA
+from homebench.report.findings_report import findings_of_runs
+
+CONFIG = Path(__file__).parent.parent / "configs" / "findings_sift.yaml"
+ROBUST = [
+    "P<PN AE original-original",
+    "P AHC>0 original-original",
+    "P AHC>0 original-arboreal",
+    "W AHC>0 original-original",
+    "W AHC>0 original-arboreal",
+]
 
 
 @pytest.mark.slow
-def test_sift_paper_findings_reproduce(tmp_path: Path) -> None:
+def test_findings_that_hold_in_every_style(tmp_path: Path) -> None:
     data = yaml.safe_load(CONFIG.read_text())
-    data["output"] = str(tmp_path / "run")
+    data.update(output=str(tmp_path / "run"), seeds=[0, 1])
     result = run_config(tmp_path, data)
     assert result.exit_code == 0, result.output
-    summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv")
-    table = summary.set_index(["condition", "method"])
-    for condition in ("original-original", "original-arboreal", "original-day"):
-        p, pn, w = (table.loc[(condition, m)] for m in ("P", "PN", "W"))
-        assert p["ahc"] > w["ahc"] and p["rr"] > w["rr"], condition  # P beats W
-        assert p["rr"] >= pn["rr"] and p["ahc"] > pn["ahc"], condition  # elimination helps
-    drop = table.loc["original-original"] - table.loc["original-day"]
-    assert drop.loc["W", "ahc"] > 0.5 and drop.loc["W", "rr"] > 0.5  # warping collapses
-    assert drop.loc["P", "ahc"] < 0.1 and drop.loc["P", "rr"] < 0.1  # P drops only slightly
+    table = findings_of_runs([tmp_path / "run"], alpha=ALPHA).set_index(["place", "finding"])
+    for style in data["styles"]:
+        for finding in ROBUST:
+            row = table.loc[(style, finding)]
+            assert row["verdict"] == "holds", (style, finding, row.to_dict())
