@@ -75,11 +75,11 @@ def test_all_methods_at_a_corner_goal_fill_the_tables(tmp_path: Path) -> None:
     tables = tmp_path / "run" / "tables"
     pairs = pd.read_csv(tables / "pairs.csv")
     assert len(pairs) == len(BUILT_IN) * 2 * 8
-    answered = pairs["estimate"].notna()
-    assert np.isfinite(pairs.loc[answered, "ae"]).all()
-    assert pairs.loc[~answered, "ae"].isna().all()  # no estimate: no AE, counted below
+    answered = pairs["estimate_rad"].notna()
+    assert np.isfinite(pairs.loc[answered, "ae_rad"]).all()
+    assert pairs.loc[~answered, "ae_rad"].isna().all()  # no estimate: no AE, counted below
     summary = pd.read_csv(tables / "summary.csv").set_index("method")
-    share = pairs.groupby("method")["estimate"].apply(lambda s: s.isna().mean())
+    share = pairs.groupby("method")["estimate_rad"].apply(lambda s: s.isna().mean())
     pd.testing.assert_series_equal(
         summary["no_estimate_share"].sort_index().astype(float),
         share.sort_index(),
@@ -90,8 +90,13 @@ def test_all_methods_at_a_corner_goal_fill_the_tables(tmp_path: Path) -> None:
 
 #: Columns of pairs.csv that a pair without an estimate leaves empty, and those a method may
 #: leave empty beside an estimate (no rotation or no score reported).
-_NO_ESTIMATE = {"estimate", "estimate_world", "ae", "ae_deg", "rotation_estimate", "score", "error"}
-_OPTIONAL = {"rotation_estimate", "score", "error"}  # "error": empty unless the pair failed
+_ANSWER = ("estimate", "estimate_world", "ae", "rotation_estimate")
+_NO_ESTIMATE = {f"{name}_{unit}" for name in _ANSWER for unit in ("rad", "deg")} | {
+    "score",
+    "error",
+}
+#: "error": empty unless the pair failed
+_OPTIONAL = {"rotation_estimate_rad", "rotation_estimate_deg", "score", "error"}
 
 
 def _assert_empty_only_where_nothing_was_measured(tables: Path) -> None:
@@ -105,7 +110,7 @@ def _assert_empty_only_where_nothing_was_measured(tables: Path) -> None:
         cells = pd.read_csv(tables / name, dtype=str, keep_default_na=False)
         empty = (cells == "").drop(columns=["style", "seed"], errors="ignore")
         if name == "pairs.csv":
-            unanswered = empty["estimate"]
+            unanswered = empty["estimate_rad"]
             allowed = empty.columns.isin(list(_NO_ESTIMATE))
             optional = empty.columns.isin(list(_OPTIONAL))
             stray = empty.loc[unanswered, ~allowed].any() | empty.loc[~unanswered, ~optional].any()
@@ -118,7 +123,12 @@ def _assert_empty_only_where_nothing_was_measured(tables: Path) -> None:
 
 def test_the_table_check_catches_a_nan(tmp_path: Path) -> None:
     pairs = pd.DataFrame(
-        {"seed": [None, None], "estimate": [0.5, None], "ae": [0.1, None], "truth": [0.4, 1.0]}
+        {
+            "seed": [None, None],
+            "estimate_rad": [0.5, None],
+            "ae_rad": [0.1, None],
+            "truth_rad": [0.4, 1.0],
+        }
     )
     summary = pd.DataFrame({"method": ["m"], "mean_ae_deg": [5.0]})
     pairs.to_csv(tmp_path / "pairs.csv", index=False)
@@ -128,6 +138,6 @@ def test_the_table_check_catches_a_nan(tmp_path: Path) -> None:
     with pytest.raises(AssertionError, match="summary.csv"):
         _assert_empty_only_where_nothing_was_measured(tmp_path)
     summary.to_csv(tmp_path / "summary.csv", index=False)
-    pairs.assign(truth=[0.4, float("nan")]).to_csv(tmp_path / "pairs.csv", index=False)
-    with pytest.raises(AssertionError, match="truth"):
+    pairs.assign(truth_rad=[0.4, float("nan")]).to_csv(tmp_path / "pairs.csv", index=False)
+    with pytest.raises(AssertionError, match="truth_rad"):
         _assert_empty_only_where_nothing_was_measured(tmp_path)

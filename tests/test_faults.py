@@ -156,8 +156,8 @@ def test_a_failing_pair_keeps_the_other_rows_of_its_job(
     broken = faulty[faulty["error"].notna()]
     assert list(zip(broken["current_i"], broken["current_j"], strict=True)) == [(3, 4), (3, 4)]
     assert (broken["error"] == "ValueError: simulated failure of one pair").all()
-    assert broken["estimate"].isna().all()
-    assert faulty.loc[faulty["error"].isna(), "estimate"].notna().all()
+    assert broken["estimate_rad"].isna().all()
+    assert faulty.loc[faulty["error"].isna(), "estimate_rad"].notna().all()
     summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv").set_index("method")
     assert summary.loc["faulty", "n_failed"] == 2
     assert summary.loc["faulty", "pairs"] == 2 * 18

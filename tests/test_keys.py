@@ -39,8 +39,8 @@ def test_an_edited_plugin_recomputes_and_an_unchanged_one_does_not(
     assert "2 job(s) computed, 2 reused" in result.stdout
     after = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
     faulty = after["method"] == plugin.method
-    assert (after.loc[faulty, "estimate"] == 0.2).all()
-    assert (before.loc[faulty, "estimate"] == 0.1).all()
+    assert (after.loc[faulty, "estimate_rad"] == 0.2).all()
+    assert (before.loc[faulty, "estimate_rad"] == 0.1).all()
 
 
 def test_a_changed_image_recomputes_the_jobs_that_see_it(

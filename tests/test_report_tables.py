@@ -1,24 +1,46 @@
-"""Report tables: rounding, units, the three writers, and numbers equal to the job files'."""
+"""Report tables: rounding, intervals, config order, significance marks, the writers (CSV, MD,
+LaTeX, console, PDF pages) and the run folder's tables, on synthetic runs whose answers are
+known."""
 
 from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from test_report_runs import GRID, FakeMethod, write_fake_run
+from test_results_uncertainty import synthetic_pairs
+from test_results_uncertainty import tables as synthetic_tables
 
 from homebench.config import MetricsConfig
-from homebench.evaluation.results import build_tables
+from homebench.evaluation.comparisons import COLUMNS
+from homebench.evaluation.results import (
+    ANGLE_COLUMNS,
+    RunTables,
+    build_tables,
+    method_comparisons,
+    write_tables,
+)
+from homebench.report.pages import TABLE_ROWS, table_pages
+from homebench.report.run_data import load_run
 from homebench.report.tables import (
+    FIXED3,
+    P_VALUE,
     Digits,
+    RowOrder,
+    make_view,
     report_views,
+    run_order,
+    summary_view,
     to_csv,
     to_latex,
     to_markdown,
+    to_text,
     write_views,
 )
 
@@ -27,12 +49,15 @@ METHODS = [
     FakeMethod("reversed", 180.0),
     FakeMethod("holes_10", 10.0, frozenset({(0, 0), (3, 4), (2, 0)}), home_ms=1234.5),
 ]
+#: The fake run's config order: neither alphabetical nor reversed.
+CONDITIONS = ("a-b", "a-a")
+ORDER = RowOrder(CONDITIONS, tuple(m.label for m in METHODS))
 
 
 @pytest.fixture
 def views(tmp_path: Path) -> dict[str, object]:
-    run = write_fake_run(tmp_path / "run", METHODS, conditions=("a-a", "a-b"))
-    return {v.name: v for v in report_views(build_tables(run, MetricsConfig()))}
+    run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS)
+    return {v.name: v for v in report_views(build_tables(run, MetricsConfig()), ORDER)}
 
 
 @pytest.mark.parametrize(
@@ -45,6 +70,9 @@ def views(tmp_path: Path) -> dict[str, object]:
         (Digits(significant=3), 0.012345, "0.0123", 0.0123),
         (Digits(significant=3), 16.06, "16.1", 16.1),
         (Digits(2), math.nan, "--", math.nan),
+        (P_VALUE, 0.0123, "0.012", 0.012),
+        (P_VALUE, 2.4e-36, "<0.001", 2.4e-36),  # the CSV keeps the number
+        (P_VALUE, 1.0, "1.0", 1.0),
     ],
 )
 def test_digits_round_and_print(digits: Digits, value: float, text: str, rounded: float) -> None:
@@ -64,15 +92,15 @@ def _job_pairs(run_dir: Path) -> pd.DataFrame:
 
 
 def test_summary_numbers_equal_the_job_files(tmp_path: Path) -> None:
-    run = write_fake_run(tmp_path / "run", METHODS, conditions=("a-a", "a-b"))
-    write_views(report_views(build_tables(run, MetricsConfig())), tmp_path / "tables")
+    run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS)
+    write_views(report_views(build_tables(run, MetricsConfig()), ORDER), tmp_path / "tables")
     table = pd.read_csv(tmp_path / "tables" / "summary.csv")
     assert len(table) == 2 * 3
     pairs = _job_pairs(run)
     for (condition, method), group in pairs.groupby(["condition", "method"]):
         row = table[(table["condition"] == condition) & (table["method"] == method)].iloc[0]
         ae = group["ae"].astype(float)
-        assert row["pairs"] == len(group)
+        assert row["pairs"] == len(group) and row["n goals"] == 2
         assert row["no estimate [%]"] == round(100 * ae.isna().mean(), 1)
         assert row["mean AE [deg]"] == round(np.degrees(ae.mean()), 2)
         assert row["median AE [deg]"] == round(np.degrees(ae.median()), 2)
@@ -85,53 +113,312 @@ def test_summary_numbers_equal_the_job_files(tmp_path: Path) -> None:
     assert (by_method.xs("reversed", level="method")["RR"] == round(1 / GRID.size, 3)).all()
     assert (by_method.xs("reversed", level="method")["AHC"] == -1.0).all()
     assert by_method.loc[("a-a", "holes_10"), "mean AE [deg]"] == 10.0
+    # every goal of the fixed offsets has the same AE: the interval has no width
+    assert by_method.loc[("a-a", "holes_10"), "mean AE [deg] lo"] == 10.0
 
 
-def test_rr_by_goal_is_one_row_per_goal_and_one_column_per_method(views: dict) -> None:
-    frame = views["rr_by_goal"].frame
-    assert list(frame.columns) == ["condition", "goal (i, j)", "holes_10", "perfect", "reversed"]
-    assert frame["goal (i, j)"].tolist() == ["(1, 2)", "(2, 3)"] * 2
-    assert (frame["perfect"] == 1.0).all()
-    assert (frame["reversed"] == 0.05).all()
+# --------------------------------------------------------------------------- intervals
 
 
-def test_ahc_by_distance_has_only_bins_with_pairs(views: dict) -> None:
-    frame = views["ahc_by_distance"].frame
-    assert "all" not in frame["distance [cm]"].astype(str).tolist()
-    # the 4 x 5 grid 0.3 m apart: nearest-bin distances from goals (1, 2) and (2, 3)
-    assert frame["distance [cm]"].max() <= 150 and frame["distance [cm]"].min() == 30
-    assert (frame["perfect"] == 1.0).all() and (frame["reversed"] == -1.0).all()
-    holes = frame.set_index("distance [cm]")["holes_10"]
-    # the only pair 120 cm apart, (0, 0) to goal (2, 3), has no estimate: no AHC there
-    assert holes.loc[120].isna().all()
-    assert np.allclose(holes.drop(index=120), round(math.cos(math.radians(10)), 3))
+def _summary_row(**metrics: float) -> pd.DataFrame:
+    """A one-row summary table of condition "a-a", method "m" with ``metrics``."""
+    return pd.DataFrame([{"condition": "a-a", "method": "m", "pairs": 190, "n_goals": 10,
+                          **metrics}])  # fmt: skip
+
+
+def test_an_interval_cell_reads_estimate_lo_hi_and_the_csv_keeps_the_numbers() -> None:
+    summary = _summary_row(ahc=0.97312, ahc_lo=0.95149, ahc_hi=0.98777, median_ae_deg=3.14159,
+                           no_estimate_share=0.25, no_estimate_share_lo=0.125,
+                           no_estimate_share_hi=0.5)  # fmt: skip
+    view = summary_view(summary, RowOrder(), pd.DataFrame(columns=COLUMNS))
+    shown = view.text_frame().iloc[0]
+    assert shown["AHC"] == "0.973 [0.951, 0.988]"
+    assert shown["no estimate [%]"] == "25.0 [12.5, 50.0]"
+    assert shown["median AE [deg]"] == "3.14"  # no bounds: the estimate alone
+    assert shown["n goals"] == "10" and shown["pairs"] == "190"
+    assert "AHC lo" not in shown.index
+    header, row = to_csv(view).splitlines()
+    assert header == (
+        "condition,method,n goals,pairs,no estimate [%],no estimate [%] lo,no estimate [%] hi,"
+        "median AE [deg],AHC,AHC lo,AHC hi"
+    )
+    assert row == "a-a,m,10,190,25.0,12.5,50.0,3.14,0.973,0.951,0.988"
+
+
+def test_a_metric_without_bounds_shows_its_estimate_alone() -> None:
+    summary = _summary_row(ahc=0.9, ahc_lo=math.nan, ahc_hi=math.nan, rr=math.nan,
+                           rr_lo=math.nan, rr_hi=math.nan)  # fmt: skip
+    shown = summary_view(summary, RowOrder(), pd.DataFrame(columns=COLUMNS)).text_frame()
+    assert shown.loc[0, "AHC"] == "0.900" and shown.loc[0, "RR"] == "--"
+
+
+# --------------------------------------------------------------------------- config order
+
+
+def test_rows_and_method_columns_follow_the_config_order(views: dict) -> None:
+    summary = views["summary"].frame
+    assert list(zip(summary["condition"], summary["method"], strict=True)) == [
+        (c, m.label) for c in CONDITIONS for m in METHODS
+    ]
+    rr = views["rr_by_goal"].frame
+    assert list(rr.columns) == ["condition", "goal (i, j)", "perfect", "reversed", "holes_10"]
+    assert rr["condition"].tolist() == ["a-b", "a-b", "a-a", "a-a"]
+    assert rr["goal (i, j)"].tolist() == ["(1, 2)", "(2, 3)"] * 2
+    ahc = views["ahc_by_distance"]
+    assert ahc.text_frame().columns.tolist()[2:] == ["perfect", "reversed", "holes_10"]
+    assert ahc.frame["condition"].iloc[0] == "a-b"
+    # A is the method listed first; B - A turns sign with it
+    comparisons = views["comparisons"].frame
+    assert comparisons[["condition", "metric", "A", "B"]].head(4).values.tolist() == [
+        ["a-b", "mean AE [deg]", "perfect", "reversed"],
+        ["a-b", "mean AE [deg]", "perfect", "holes_10"],
+        ["a-b", "mean AE [deg]", "reversed", "holes_10"],
+        ["a-b", "AHC", "perfect", "reversed"],
+    ]
+    # AE counted as 90 deg where holes_10 has no estimate (3 positions x 2 goals of 38 pairs)
+    assert comparisons.loc[1, "B - A"] == round((32 * 10 + 6 * 90) / 38, 3)
+    assert comparisons.loc[2, "B - A"] == round((32 * 10 + 6 * 90) / 38 - 180, 3)
+
+
+def test_labels_the_order_does_not_list_come_last_sorted() -> None:
+    order = RowOrder(("b-b",), ("z",))
+    frame = pd.DataFrame(
+        {"condition": ["a-a", "c-c", "b-b", "b-b"], "method": ["x", "z", "y", "z"]}
+    )
+    assert order.sort(frame).values.tolist() == [["b-b", "z"], ["b-b", "y"], ["a-a", "x"],
+                                                 ["c-c", "z"]]  # fmt: skip
+    assert order.methods_of(["y", "z", "x", "y"]) == ["z", "x", "y"]
+
+
+def test_the_run_order_is_the_config_order(tmp_path: Path) -> None:
+    methods = [FakeMethod("w", 5.0), FakeMethod("sift", 10.0)]
+    run = write_fake_run(tmp_path / "run", methods, conditions=("z-z", "a-a", "m-m"))
+    assert run_order(load_run(run)) == RowOrder(("z-z", "a-a", "m-m"), ("w", "sift"))
+
+
+# --------------------------------------------------------------------------- marks
+
+
+def _run_tables(pairs: pd.DataFrame) -> RunTables:
+    made = synthetic_tables(pairs)
+    return RunTables(pairs, made["summary"], made["goals"], made["ahc"], (),
+                     rr_starts=made["rr_starts"])  # fmt: skip
+
+
+def _marked(pairs: pd.DataFrame, order: RowOrder) -> set[tuple[str, str]]:
+    """(method, column) of the summary's marked cells."""
+    tables = _run_tables(pairs)
+    view = summary_view(tables.summary, order, method_comparisons(tables))
+    return {(view.frame.loc[row, "method"], column) for row, column in view.marked}
+
+
+def test_the_significantly_best_method_is_marked() -> None:
+    """10 goals, "good" 15 deg better on every one: its AE and AHC cells are marked (sign-flip
+    p = 2 / 2**10 before Holm); the return ratios do not differ, so no RR cell is."""
+    pairs = synthetic_pairs({"good": (0.0, 3.0), "bad": (15.0, 3.0), "bad_twin": (15.0, 3.0)})
+    assert _marked(pairs, RowOrder(("a-b",), ("bad", "good", "bad_twin"))) == {
+        ("good", "mean AE [deg]"),
+        ("good", "AHC"),
+        ("good", "AHC (no estimate = 90 deg)"),
+    }
+
+
+def test_two_equal_methods_are_not_marked() -> None:
+    pairs = synthetic_pairs({"a": (0.0, 3.0)})
+    twins = pd.concat([pairs, pairs.assign(method="a_copy")], ignore_index=True)
+    assert _marked(twins, RowOrder()) == set()
+
+
+def test_a_method_that_abstains_is_not_marked_for_its_mean_ae() -> None:
+    """Method "abstains" has the lower AE on the pairs it answers but none on 60 % of them;
+    compared with a missing estimate as 90 deg it is significantly worse, so none of its
+    cells is marked; "steady" is marked where its value is the best: AHC with a missing
+    estimate as 90 deg and RR (a field with holes leads few starts home)."""
+    abstains = synthetic_pairs({"abstains": (0.0, 3.0)}, missing=0.6, seed=1)
+    steady = synthetic_pairs({"steady": (10.0, 3.0)}, missing=0.0, seed=2)
+    pairs = pd.concat([abstains, steady], ignore_index=True)
+    assert _marked(pairs, RowOrder()) == {
+        ("steady", "AHC (no estimate = 90 deg)"),
+        ("steady", "RR"),
+    }
+
+
+def test_every_writer_shows_the_marks_and_says_what_they_mean() -> None:
+    pairs = synthetic_pairs({"good": (0.0, 3.0), "bad": (15.0, 3.0)})
+    tables = _run_tables(pairs)
+    view = summary_view(tables.summary, RowOrder(), method_comparisons(tables))
+    good = view.text_frame().set_index("method").loc["good", "mean AE [deg]"]
+    bad = view.text_frame().set_index("method").loc["bad", "mean AE [deg]"]
+    assert f"**{good}**" in to_markdown(view) and f"**{bad}**" not in to_markdown(view)
+    assert "**bold**: the best value of its condition" in to_markdown(view)
+    assert f"\\bfseries {good}" in to_latex(view) and f"\\bfseries {bad}" not in to_latex(view)
+    assert "Bold: the best value" in to_latex(view)
+    console = to_text(view)
+    assert f"{good}*" in console and f"{bad} " in console and f"{bad}*" not in console
+    assert console.splitlines()[-3].startswith("*: the best value of its condition")
+    assert "sign-flip test (p < 0.05, Holm-adjusted" in console
+    (page,) = table_pages(view)
+    (table,) = page.axes[0].tables
+    weights = {cell.get_text().get_text(): cell.get_text().get_fontweight()
+               for (row, _), cell in table.get_celld().items() if row > 0}  # fmt: skip
+    assert weights[good] == "bold" and weights[bad] == "normal"
+    assert any("Bold: the best value" in text.get_text() for text in page.texts)
+
+
+# --------------------------------------------------------------------------- writers
 
 
 def test_writers_show_units_rounding_and_missing_values(views: dict) -> None:
     summary = views["summary"]
     csv = to_csv(summary)
     assert csv.splitlines()[0] == (
-        "condition,method,pairs,no estimate [%],mean AE [deg],median AE [deg],AHC,RR,"
-        "catchment,describe [ms/image],home [ms/pair]"
+        "condition,method,n goals,pairs,no estimate [%],no estimate [%] lo,no estimate [%] hi,"
+        "mean AE [deg],mean AE [deg] lo,mean AE [deg] hi,median AE [deg],AHC,AHC lo,AHC hi,"
+        "AHC (no estimate = 90 deg),AHC (no estimate = 90 deg) lo,"
+        "AHC (no estimate = 90 deg) hi,RR,RR lo,RR hi,catchment,catchment lo,catchment hi,"
+        "describe [ms/image],home [ms/pair]"
     )
     assert ",1230.0" in csv  # home time to 3 significant digits
     markdown = to_markdown(summary)
-    assert "| holes_10 " in markdown and "0.985" in markdown and "1230" in markdown
+    assert "| holes_10 " in markdown and "0.985 [0.985, 0.985]" in markdown
+    assert "1230" in markdown
     latex = to_latex(summary)
     for rule in ("\\toprule", "\\midrule", "\\bottomrule"):
         assert latex.count(rule) == 1
-    assert "holes\\_10" in latex and "no estimate [\\%]" in latex
+    assert "holes\\_10" in latex and "{no estimate [\\%]}" in latex
     assert "\\caption{" in latex
     # a return ratio that cannot be computed prints as "--", never "nan"
     view = views["rr_by_goal"]
     view.frame.loc[0, "perfect"] = math.nan
     assert "--" in to_markdown(view) and "nan" not in to_markdown(view).lower()
-    assert "--" in to_latex(view)
+    assert "{--}" in to_latex(view)  # siunitx reads a braced cell as text
+
+
+def _check_latex(latex: str) -> None:
+    """Braces balance (escaped ones aside) and environments nest."""
+    depth = 0
+    for char in re.sub(r"\\[{}]", "", latex):
+        depth += {"{": 1, "}": -1}.get(char, 0)
+        assert depth >= 0
+    assert depth == 0
+    stack = []
+    for kind, name in re.findall(r"\\(begin|end)\{(\w+)\}", latex):
+        if kind == "begin":
+            stack.append(name)
+        else:
+            assert stack.pop() == name
+    assert stack == []
+
+
+def _wide_view(rows: int, columns: int = 12) -> object:
+    """A view of ``rows`` rows: a method label, a text column and ``columns - 2`` interval
+    columns with long numbers; row 3's first interval cell marked."""
+    frame = pd.DataFrame({"method": [f"my_method_{k}" for k in range(rows)],
+                          "condition": "original-arboreal"})  # fmt: skip
+    bounds = {}
+    for k in range(columns - 2):
+        header = f"metric number {k} [deg/s]"
+        frame[header] = 123.456 + np.arange(rows)
+        frame[f"{header} lo"], frame[f"{header} hi"] = frame[header] - 100, frame[header] + 100
+        bounds[header] = (f"{header} lo", f"{header} hi")
+    digits = {header: FIXED3 for header in bounds}
+    return make_view("wide", "A wide table", frame, digits, bounds,
+                     frozenset({(3, "metric number 0 [deg/s]")}), "marked")  # fmt: skip
+
+
+def test_latex_is_valid_with_siunitx_and_escapes() -> None:
+    view = _wide_view(5)
+    latex = to_latex(view)
+    _check_latex(latex)
+    assert "\\begin{table}[htbp]" in latex and "longtable" not in latex
+    assert "\\begin{tabular}{ll" + "r" * 10 + "}" in latex
+    assert "my\\_method\\_3 & original-arboreal & \\bfseries 126.456 [26.456, 226.456]" in latex
+    assert "{metric number 0 [deg/s]}" in latex  # siunitx: headers braced
+    summary = to_latex(summary_view(_summary_row(home_ms=2.5), RowOrder(),
+                                    pd.DataFrame(columns=COLUMNS)))  # fmt: skip
+    _check_latex(summary)
+    assert "\\begin{tabular}{llSSS}" in summary  # single numbers: siunitx S columns
+
+
+def test_a_long_latex_table_is_a_longtable() -> None:
+    latex = to_latex(_wide_view(41))
+    _check_latex(latex)
+    assert latex.startswith("\\begin{longtable}") and "\\begin{table}" not in latex
+    assert latex.count("\\endhead") == 1 and "my\\_method\\_40" in latex
+
+
+def test_pdf_table_pages_keep_a_wide_long_table_on_the_page() -> None:
+    view = _wide_view(40)
+    pages = table_pages(view)
+    assert len(pages) == math.ceil(40 / TABLE_ROWS)
+    for page in pages:
+        renderer = FigureCanvasAgg(page).get_renderer()
+        page.draw(renderer)
+        (table,) = page.axes[0].tables
+        box = table.get_window_extent(renderer)
+        assert box.x0 >= 0 and box.y0 >= 0, box
+        assert box.x1 <= page.bbox.width and box.y1 <= page.bbox.height, box
+    (table,) = pages[0].axes[0].tables
+    assert table.get_celld()[(4, 2)].get_text().get_fontweight() == "bold"  # row 3, marked
+    assert table.get_celld()[(5, 2)].get_text().get_fontweight() == "normal"
 
 
 def test_write_views_writes_three_files_per_table(views: dict, tmp_path: Path) -> None:
+    assert list(views) == ["summary", "rr_by_goal", "ahc_by_distance", "comparisons"]
     written = write_views(list(views.values()), tmp_path / "out")
     assert sorted(p.name for p in written) == sorted(
         f"{name}.{suffix}" for name in views for suffix in ("csv", "md", "tex")
     )
     assert all(p.stat().st_size > 100 for p in written)
+
+
+def test_comparisons_view_prints_differences_and_p_values(views: dict) -> None:
+    view = views["comparisons"]
+    header = to_csv(view).splitlines()[0]
+    assert header == (
+        "condition,metric,A,B,B - A,B - A lo,B - A hi,p goal (Holm),p pair test (Holm),n goals"
+    )
+    shown = view.text_frame()
+    assert len(shown) == 2 * 3 * 3  # conditions x method pairs x (AE, AHC, RR)
+    assert shown.loc[0, "B - A"] == "180.000 [180.000, 180.000]"
+    assert shown.loc[0, "n goals"] == "2"
+    assert (shown["p goal (Holm)"] == "1.0").all()  # two goals: p is at least 0.5
+
+
+# --------------------------------------------------------------------------- run folder
+
+
+def test_pairs_table_has_every_angle_in_radians_and_degrees(tmp_path: Path) -> None:
+    run = write_fake_run(tmp_path / "run", METHODS)
+    tables = build_tables(run, MetricsConfig())
+    written = write_tables(tables, run, "csv")
+    pairs = pd.read_csv(run / "tables" / "pairs.csv")
+    for name in ANGLE_COLUMNS:
+        assert name not in pairs.columns
+        radians, degrees = pairs[f"{name}_rad"], pairs[f"{name}_deg"]
+        np.testing.assert_allclose(degrees, radians * 180 / np.pi, rtol=1e-5)
+        np.testing.assert_allclose(radians, tables.pairs[name].astype(float), rtol=1e-5)
+    place = list(pairs.columns).index("estimate_rad")
+    assert pairs.columns[place + 1] == "estimate_deg"
+    assert (pairs.loc[pairs["method"] == "holes_10", "ae_deg"].dropna().round(6) == 10).all()
+    assert "ae" in tables.pairs.columns and "estimate" in tables.pairs.columns  # in memory
+    comparisons = pd.read_csv(run / "tables" / "comparisons.csv")
+    assert list(comparisons.columns) == COLUMNS and len(comparisons) == 3 * 3
+    assert run / "tables" / "comparisons.csv" in written
+
+
+def test_comparisons_are_per_style_when_styles_are_swept() -> None:
+    pairs = synthetic_pairs({"a": (0.0, 3.0), "b": (5.0, 3.0)})
+    swept = pd.concat([pairs.assign(style=style) for style in ("lab", "corridor")])
+    swept["style"] = swept["style"].astype("string")
+    made = synthetic_tables(swept)
+    found = method_comparisons(
+        RunTables(
+            swept, made["summary"], made["goals"], made["ahc"], (), rr_starts=made["rr_starts"]
+        )  # fmt: skip
+    )
+    assert list(found.columns) == ["style", *COLUMNS]
+    assert found["style"].tolist() == ["corridor"] * 3 + ["lab"] * 3
+    # the same pairs in each style: the same comparisons, Holm within each style
+    numbers = ["difference", "p_goal_holm"]
+    np.testing.assert_array_equal(found[numbers][:3].to_numpy(), found[numbers][3:].to_numpy())

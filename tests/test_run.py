@@ -179,7 +179,7 @@ def test_rotated_current_views_keep_the_home_direction(
     code, _, err = _run(str(config))
     assert code == 0, err
     pairs = pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
-    assert (pairs["rotation"] != 0).mean() > 0.9
+    assert (pairs["rotation_rad"] != 0).mean() > 0.9
     summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv")
     assert (summary["mean_ae_deg"] < 30).all()
 

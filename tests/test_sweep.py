@@ -53,7 +53,7 @@ def test_sweep_keeps_every_factor_as_a_column(tmp_path: Path) -> None:
     goals = pd.read_csv(tables / "goals.csv")
     assert len(goals) == 2 * 4 * 2 and set(goals["seed"]) == {0, 3}
     # the two seeds are different rooms: their estimates differ somewhere
-    a, b = (pairs[pairs["seed"] == s]["estimate"].to_numpy() for s in (0, 3))
+    a, b = (pairs[pairs["seed"] == s]["estimate_rad"].to_numpy() for s in (0, 3))
     assert (abs(a - b) > 1e-9).any()
 
 
@@ -86,5 +86,5 @@ def test_styles_sweep_every_generated_database(tmp_path: Path) -> None:
     assert len(by_seed) == 4 and set(by_seed.columns) >= {"style", "seed"}
     assert set(pd.read_csv(tables / "rr_starts.csv")["style"]) == {"lab", "corridor"}
     # a lab and a corridor are different places: the estimates differ
-    a, b = (pairs[pairs["style"] == s]["estimate"].to_numpy() for s in ("lab", "corridor"))
+    a, b = (pairs[pairs["style"] == s]["estimate_rad"].to_numpy() for s in ("lab", "corridor"))
     assert (abs(a - b) > 1e-9).any()

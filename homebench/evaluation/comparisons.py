@@ -66,13 +66,16 @@ class MethodComparison:
     rr: RrComparison
 
 
-#: Per (condition, method): keys (n, 5) int (the goal's labels, then a position) and values.
-Keyed = dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]
+#: One cell's rows: keys (n, 5) int (the goal's labels, then a position) and values (n,).
+Cell = tuple[np.ndarray, np.ndarray]
+#: Per (condition, method): the cell of its rows.
+Keyed = dict[tuple[str, str], Cell]
+EMPTY_CELL: Cell = (np.empty((0, 5), np.int64), np.empty(0))
 PAIR_POSITION = ["current_i", "current_j"]
 START_POSITION = ["start_i", "start_j"]
 
 
-def _keyed(table: pd.DataFrame, position: list[str], value: str) -> Keyed:
+def keyed_cells(table: pd.DataFrame, position: list[str], value: str) -> Keyed:
     """The rows of ``table`` per (condition, method) as keys and ``value`` (float); pairs whose
     method raised (an ``error``) are in no comparison, as in no metric."""
     if table.empty:
@@ -89,16 +92,31 @@ def _keyed(table: pd.DataFrame, position: list[str], value: str) -> Keyed:
     }
 
 
-def _matched(
-    keyed: Keyed, condition: str, a: str, b: str
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The values of methods ``a`` and ``b`` on their common keys under ``condition``,
-    shapes (n,) and (n,), and the goal labels of each, (n, 3)."""
-    empty = (np.empty((0, 5), np.int64), np.empty(0))
-    (keys_a, values_a), (keys_b, values_b) = (keyed.get((condition, m), empty) for m in (a, b))
+def matched(a: Cell, b: Cell) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The values of cells ``a`` and ``b`` on their common keys, shapes (n,) and (n,), and
+    the goal labels of each, (n, 3)."""
+    (keys_a, values_a), (keys_b, values_b) = a, b
     code = row_codes(np.vstack([keys_a, keys_b]))[0]
     _, ia, ib = np.intersect1d(code[: len(keys_a)], code[len(keys_a) :], return_indices=True)
     return values_a[ia], values_b[ib], keys_a[ia, :3]
+
+
+def compare_cells(
+    ae: tuple[Cell, Cell],
+    rr: tuple[Cell, Cell],
+    seed: int,
+    missing: Missing = "orthogonal",
+    n_boot: int = N_BOOT,
+    level: float = LEVEL,
+) -> tuple[AeComparison, RrComparison]:
+    """B against A on their matched pairs (``ae``: the AE cells of A and B) and matched
+    return-ratio starts (``rr``: their success cells), resampled and flipped from ``seed``."""
+    ae_a, ae_b, goal = matched(*ae)
+    ok_a, ok_b, start_goal = matched(*rr)
+    return (
+        compare_ae(ae_a, ae_b, goal, missing, n_boot, level, seed),
+        compare_rr(ok_a.astype(bool), ok_b.astype(bool), start_goal, n_boot, level, seed),
+    )
 
 
 def compare_methods(
@@ -118,8 +136,8 @@ def compare_methods(
     flips is derived from (condition, a, b): the same tables give the same numbers.
     """
     chosen = [_rows_of(table, condition, (a, b)) for table in (pairs, rr_starts)]
-    ae = _keyed(chosen[0], PAIR_POSITION, "ae")
-    rr = _keyed(chosen[1], START_POSITION, "success")
+    ae = keyed_cells(chosen[0], PAIR_POSITION, "ae")
+    rr = keyed_cells(chosen[1], START_POSITION, "success")
     return _compare(ae, rr, condition, a, b, missing, n_boot, level)
 
 
@@ -140,15 +158,10 @@ def _compare(
     level: float,
 ) -> MethodComparison:
     seed = derived_seed("compare", condition, a, b)
-    ae_a, ae_b, goal = _matched(ae, condition, a, b)
-    ok_a, ok_b, start_goal = _matched(rr, condition, a, b)
-    return MethodComparison(
-        condition,
-        a,
-        b,
-        compare_ae(ae_a, ae_b, goal, missing, n_boot, level, seed),
-        compare_rr(ok_a.astype(bool), ok_b.astype(bool), start_goal, n_boot, level, seed),
-    )
+    ae_cells = (ae.get((condition, a), EMPTY_CELL), ae.get((condition, b), EMPTY_CELL))
+    rr_cells = (rr.get((condition, a), EMPTY_CELL), rr.get((condition, b), EMPTY_CELL))
+    found = compare_cells(ae_cells, rr_cells, seed, missing, n_boot, level)
+    return MethodComparison(condition, a, b, *found)
 
 
 def comparison_table(
@@ -168,7 +181,8 @@ def comparison_table(
     Holm's family is the whole table: every AE and every RR comparison (the ``ahc`` row
     shares the AE test of its ``mean_ae_deg`` row and is not counted twice).
     """
-    ae, rr = _keyed(pairs, PAIR_POSITION, "ae"), _keyed(rr_starts, START_POSITION, "success")
+    ae = keyed_cells(pairs, PAIR_POSITION, "ae")
+    rr = keyed_cells(rr_starts, START_POSITION, "success")
     found = [
         _compare(ae, rr, condition, a, b, missing, n_boot, level)
         for condition in sorted({c for c, _ in ae})
@@ -176,11 +190,18 @@ def comparison_table(
     ]
     rows = [row for k, comparison in enumerate(found) for row in _rows(comparison, 2 * k)]
     table = pd.DataFrame(rows, columns=["test", *COLUMNS])
-    tests = table.drop_duplicates("test").set_index("test")
     for column in ("p_goal", "p_pair"):
-        adjusted = pd.Series(holm(tests[column]), index=tests.index, dtype=float)
-        table[f"{column}_holm"] = table["test"].map(adjusted)
+        table[f"{column}_holm"] = holm_by_test(table[column], table["test"])
     return table[COLUMNS]
+
+
+def holm_by_test(p_values: pd.Series, tests: pd.Series) -> pd.Series:
+    """Holm-adjusted ``p_values`` of rows that name their test in ``tests`` (aligned): rows
+    of one test share its p-value and count once in the family; NaN p-values are no test."""
+    first = ~tests.duplicated()
+    unique = pd.Series(p_values[first].to_numpy(dtype=float), index=tests[first])
+    adjusted = pd.Series(holm(unique), index=unique.index, dtype=float)
+    return tests.map(adjusted)
 
 
 def _rows(found: MethodComparison, first_test: int) -> list[dict[str, object]]:

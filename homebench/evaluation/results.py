@@ -373,12 +373,50 @@ def with_failures(summary: pd.DataFrame, pairs: pd.DataFrame, by: list[str]) -> 
     return merged[columns]
 
 
+#: Columns of the pair table that are angles in radians (:data:`~homebench.evaluation.jobs.
+#: ROW_COLUMNS`); the written table names each ``<name>_rad`` and adds ``<name>_deg``.
+ANGLE_COLUMNS = ("rotation", "heading", "estimate", "estimate_world", "truth", "ae",
+                 "rotation_estimate")  # fmt: skip
+
+
+def pairs_with_units(pairs: pd.DataFrame) -> pd.DataFrame:
+    """``pairs`` as written: without ``grid``, every angle as ``<name>_rad`` followed by
+    ``<name>_deg`` (ANGLE_COLUMNS; ``ae_deg`` is ``ae``'s)."""
+    written = pairs.drop(columns=["grid", "ae_deg"], errors="ignore")
+    for name in ANGLE_COLUMNS:
+        if name in written.columns:
+            place = written.columns.get_loc(name)
+            radians = written.pop(name).astype(float)
+            written.insert(place, f"{name}_rad", radians)
+            written.insert(place + 1, f"{name}_deg", np.degrees(radians))
+    return written
+
+
+def method_comparisons(tables: RunTables) -> pd.DataFrame:
+    """Every two methods of the run compared per condition
+    (:func:`~homebench.evaluation.comparisons.comparison_table`, its columns); per style when
+    the run sweeps styles (a ``style`` column first; Holm within each style)."""
+    from homebench.evaluation.comparisons import comparison_table  # that module imports this
+
+    pairs, starts = tables.pairs, tables.rr_starts
+    if pairs.empty or not pairs["style"].notna().any():
+        return comparison_table(pairs, starts)
+    frames = [
+        comparison_table(group, starts[starts["style"] == style]).assign(style=style)
+        for style, group in pairs.groupby("style", sort=True)
+    ]
+    table = pd.concat(frames, ignore_index=True)
+    return table[["style", *table.columns[:-1]]]
+
+
 def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Path]:
-    """Write the tables under ``run_dir/tables`` (pairs as CSV or Parquet, the rest CSV)."""
+    """Write the tables under ``run_dir/tables``: pairs as CSV or Parquet
+    (:func:`pairs_with_units`), the rest CSV: summary, goals, ahc, rr_starts,
+    ``comparisons`` (:func:`method_comparisons`) and summary_by_seed when seeds are swept."""
     folder = Path(run_dir) / "tables"
     folder.mkdir(parents=True, exist_ok=True)
     written = []
-    pairs = tables.pairs.drop(columns=["grid"], errors="ignore")
+    pairs = pairs_with_units(tables.pairs)
     if table_format == "parquet":
         path = folder / "pairs.parquet"
         with atomic_write(path) as f:
@@ -392,6 +430,7 @@ def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Pa
         ("goals", tables.goals),
         ("ahc", tables.ahc),
         ("rr_starts", tables.rr_starts),
+        ("comparisons", method_comparisons(tables)),
     ]
     if not tables.summary_by_seed.empty:
         named.append(("summary_by_seed", tables.summary_by_seed))

@@ -1,31 +1,57 @@
-"""Report tables: the run's metric tables with units in the headers, rounded, as CSV / MD / TeX.
+"""Report tables: the run's metric tables with units in the headers, rounded, as CSV / MD / TeX
+and as console text.
 
-Three views of a run's tables (``homebench.evaluation.results``): the method x condition
-summary, the return ratio per goal (seed 001, Figure 10 as a table) and the AHC per distance
-bin (Figure 9 as a table). Each view is a numeric frame rounded once, so the CSV, Markdown and
-LaTeX files (pandas' own writers) show the same numbers.
+Four views of a run's tables (``homebench.evaluation.results``): the method x condition
+summary, the return ratio per goal (seed 001, Figure 10 as a table), the AHC per distance bin
+(Figure 9 as a table) and the paired comparisons of the methods. Rows follow the run's config:
+conditions, then methods, in the order the config lists them (:class:`RowOrder`).
+
+Each view is a numeric frame rounded once, one precision rule (:class:`Digits`) per column.
+A metric with a 95 % interval keeps its bounds as columns ``<header> lo`` and ``<header> hi``
+of that frame (the CSV), and every other rendering shows it as one cell, ``estimate [lo, hi]``.
+A view may mark cells (the summary: the method significantly best of its condition); Markdown
+shows a marked cell in bold, LaTeX with ``\\bfseries``, the console with a trailing ``*``, the
+PDF pages in bold, each with a note line saying what a mark means.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
+import numpy as np
 import pandas as pd
+from pydantic import ValidationError
 
-from homebench.evaluation.results import RunTables
+from homebench.config import MethodEntry
+from homebench.evaluation.results import RunTables, method_comparisons
 from homebench.fileio import write_text_atomic
+from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
+
+if TYPE_CHECKING:
+    from homebench.config import RunConfig
 
 MISSING_TEXT = "--"
+#: Significance level of a marked ("significantly best") cell, on Holm-adjusted goal-level
+#: p-values.
+ALPHA = 0.05
+#: A LaTeX table with more rows is a ``longtable``, which splits across pages.
+LATEX_PAGE_ROWS = 40
+#: How the console marks a cell (bold elsewhere).
+CONSOLE_MARK = "*"
 
 
 @dataclass(frozen=True)
 class Digits:
-    """How a column is rounded: ``decimals`` after the point, or ``significant`` digits."""
+    """How a column is rounded: ``decimals`` after the point, or ``significant`` digits;
+    values below ``below`` print as "<below" (p-values)."""
 
     decimals: int | None = None
     significant: int | None = None
+    below: float | None = None
 
     def _decimals_for(self, value: float) -> int:
         """Digits after the point to keep (negative: round to tens, hundreds, ...)."""
@@ -43,57 +69,207 @@ class Digits:
     def text(self, value: float) -> str:
         if math.isnan(value):
             return MISSING_TEXT
+        if self.below is not None and value < self.below:
+            return f"<{self.below:g}"
         rounded = self.round(value)
         return f"{rounded:.{max(0, self._decimals_for(rounded))}f}"
 
 
 FIXED0, FIXED1, FIXED2, FIXED3 = Digits(0), Digits(1), Digits(2), Digits(3)
 SIGNIFICANT3 = Digits(significant=3)
+P_VALUE = Digits(significant=2, below=0.001)
 
 
 @dataclass(frozen=True)
 class TableView:
     """A table ready to print: ``frame`` (rounded, headers with units) and its column digits.
 
-    Columns not in ``digits`` are text (conditions, methods, goals).
+    Columns not in ``digits`` are text (conditions, methods, goals). ``bounds``: shown column
+    -> its (lo, hi) columns of ``frame``, printed in the shown column's cell. ``marked``:
+    (row, shown column) of the cells shown marked, ``mark_note`` what a mark means; ``notes``:
+    further lines under the table.
     """
 
     name: str
     title: str
     frame: pd.DataFrame
     digits: dict[str, Digits]
+    bounds: dict[str, tuple[str, str]] = field(default_factory=dict)
+    marked: frozenset[tuple[int, str]] = frozenset()
+    mark_note: str = ""
+    notes: tuple[str, ...] = ()
+
+    def shown_columns(self) -> list[str]:
+        """The columns the text renderings show: all but the bounds."""
+        hidden = {c for pair in self.bounds.values() for c in pair}
+        return [c for c in self.frame.columns if c not in hidden]
+
+    def _text(self, column: str) -> list[str]:
+        return [self.digits[column].text(v) for v in self.frame[column].astype(float)]
 
     def text_frame(self) -> pd.DataFrame:
-        """Every cell as the text the Markdown and LaTeX tables show."""
-        shown = self.frame.copy()
-        for column, digits in self.digits.items():
-            shown[column] = [digits.text(v) for v in self.frame[column].astype(float)]
+        """Every shown cell as text: numbers rounded, ``estimate [lo, hi]`` where a column
+        has bounds (the estimate alone where it has none, e.g. a single goal)."""
+        shown = self.frame[self.shown_columns()].copy()
+        for column in shown.columns.intersection(list(self.digits)):
+            shown[column] = self._text(column)
+        for column, (lo, hi) in self.bounds.items():
+            shown[column] = [
+                text if MISSING_TEXT in (text, low, high) else f"{text} [{low}, {high}]"
+                for text, low, high in zip(shown[column], self._text(lo), self._text(hi),
+                                           strict=True)
+            ]  # fmt: skip
         return shown.astype(str)
 
+    def mark_mask(self) -> np.ndarray:
+        """Which cells of :meth:`text_frame` are marked, shape (rows, shown columns) bool."""
+        columns = self.shown_columns()
+        mask = np.zeros((len(self.frame), len(columns)), dtype=bool)
+        for row, column in self.marked:
+            mask[row, columns.index(column)] = True
+        return mask
+
+    def marked_frame(self, mark: Callable[[str], str], pad: str = "") -> pd.DataFrame:
+        """:meth:`text_frame` with ``mark`` applied to the marked cells; the other cells of a
+        column with a mark get ``pad`` (keeps the console's digits aligned)."""
+        text, mask = self.text_frame(), self.mark_mask()
+        for k, column in enumerate(text.columns):
+            if mask[:, k].any():
+                text[column] = [mark(v) if m else v + pad for v, m in zip(text[column], mask[:, k],
+                                                                          strict=True)]  # fmt: skip
+        return text
+
+    def note_lines(self, mark: str) -> list[str]:
+        """The lines under the table; ``mark`` names how marked cells look ("bold", "*")."""
+        return [*([f"{mark}: {self.mark_note}"] if self.mark_note else []), *self.notes]
+
+    def column_kinds(self) -> list[str]:
+        """Per shown column: "text", "number" or "interval"."""
+        return [
+            "interval" if c in self.bounds else "number" if c in self.digits else "text"
+            for c in self.shown_columns()
+        ]
+
     def alignment(self) -> list[str]:
-        return ["right" if c in self.digits else "left" for c in self.frame.columns]
+        return ["left" if kind == "text" else "right" for kind in self.column_kinds()]
 
 
-def make_view(name: str, title: str, frame: pd.DataFrame, digits: dict[str, Digits]) -> TableView:
+def make_view(
+    name: str,
+    title: str,
+    frame: pd.DataFrame,
+    digits: dict[str, Digits],
+    bounds: dict[str, tuple[str, str]] | None = None,
+    marked: frozenset[tuple[int, str]] = frozenset(),
+    mark_note: str = "",
+    notes: tuple[str, ...] = (),
+) -> TableView:
+    """A view of ``frame`` rounded by ``digits``; bound columns take their column's digits."""
+    bounds = bounds or {}
+    digits = {**digits, **{end: digits[c] for c, pair in bounds.items() for end in pair}}
     frame = frame.reset_index(drop=True)
     for column, rule in digits.items():
         rounded = pd.Series([rule.round(float(v)) for v in frame[column]], dtype=float)
         frame[column] = rounded.astype("Int64") if rule == FIXED0 else rounded
-    return TableView(name, title, frame, digits)
+    return TableView(name, title, frame, digits, bounds, marked, mark_note, notes)
 
 
-#: Summary columns: source column -> (header, digits, scale).
+# --------------------------------------------------------------------------- row order
+
+
+def _ranks(labels: Iterable[Any], listed: Sequence[str]) -> dict[str, int]:
+    """The place of each of ``labels`` (as text): ``listed`` first, the others after, sorted."""
+    extra = sorted({str(label) for label in labels} - set(listed))
+    return {label: k for k, label in enumerate([*listed, *extra])}
+
+
+@dataclass(frozen=True)
+class RowOrder:
+    """The order of a table's conditions and methods: as the run's config lists them; labels
+    it does not list come last, sorted."""
+
+    conditions: tuple[str, ...] = ()
+    methods: tuple[str, ...] = ()
+
+    def method_ranks(self, labels: Iterable[Any]) -> dict[str, int]:
+        """The place of each method label of ``labels`` in this order."""
+        return _ranks(labels, self.methods)
+
+    def methods_of(self, labels: Iterable[Any]) -> list[str]:
+        """``labels`` (method labels, repeats allowed) once each, in this order."""
+        ranks = self.method_ranks(labels)
+        return sorted(ranks.keys() & {str(label) for label in labels}, key=ranks.__getitem__)
+
+    def sort(self, frame: pd.DataFrame, then: Sequence[str] = ()) -> pd.DataFrame:
+        """``frame``'s rows by swept world (style, seed), condition and method in this order,
+        then by its columns ``then``; stable, index reset."""
+        keys = frame[swept(frame)].copy()
+        for column, listed in (("condition", self.conditions), ("method", self.methods)):
+            if column in frame.columns:
+                keys[column] = frame[column].astype(str).map(_ranks(frame[column], listed))
+        keys[list(then)] = frame[list(then)]
+        if keys.columns.empty:
+            return frame.reset_index(drop=True)
+        ordered = keys.sort_values(list(keys.columns), kind="stable", na_position="first").index
+        return frame.loc[ordered].reset_index(drop=True)
+
+
+def run_order(run: RunData) -> RowOrder:
+    """The config order of a run folder's conditions and methods (``config["methods"]``: the
+    method entries of the resolved config, each expanded to its grid points' labels)."""
+    labels = []
+    for k, entry in enumerate(run.config.get("methods", [])):
+        try:
+            labels += [label for label, _ in MethodEntry.model_validate(entry).expand()]
+        except ValidationError as error:
+            raise validation_error(run.run_dir / CONFIG_FILE, f"methods.{k}", error) from None
+    return RowOrder(tuple(run.conditions), tuple(labels))
+
+
+def config_order(config: RunConfig) -> RowOrder:
+    """The order of a validated run config's conditions and methods."""
+    return RowOrder(
+        tuple(condition for condition, _, _ in config.condition_pairs()),
+        tuple(label for label, _, _ in config.method_points()),
+    )
+
+
+# --------------------------------------------------------------------------- views
+
+
+#: Summary columns: source column -> (header, digits, scale). A source with ``_lo`` and
+#: ``_hi`` columns in the summary is shown with its interval.
 SUMMARY_COLUMNS = {
+    "n_goals": ("n goals", FIXED0, 1.0),
     "pairs": ("pairs", FIXED0, 1.0),
     "no_estimate_share": ("no estimate [%]", FIXED1, 100.0),
     "mean_ae_deg": ("mean AE [deg]", FIXED2, 1.0),
     "median_ae_deg": ("median AE [deg]", FIXED2, 1.0),
     "ahc": ("AHC", FIXED3, 1.0),
+    "ahc_missing90": ("AHC (no estimate = 90 deg)", FIXED3, 1.0),
     "rr": ("RR", FIXED3, 1.0),
     "catchment": ("catchment", FIXED3, 1.0),
     "describe_ms": ("describe [ms/image]", SIGNIFICANT3, 1.0),
     "home_ms": ("home [ms/pair]", SIGNIFICANT3, 1.0),
 }
+#: Summary columns marked where a method is significantly best: source column -> (metric of
+#: :func:`~homebench.evaluation.comparisons.comparison_table`, whether lower is better).
+MARKED = {
+    "mean_ae_deg": ("mean_ae_deg", True),
+    "ahc": ("ahc", False),
+    "ahc_missing90": ("ahc", False),
+    "rr": ("rr", False),
+}
+#: The compared metrics, in the order of the comparisons table.
+COMPARED = ("mean_ae_deg", "ahc", "rr")
+INTERVAL_NOTE = (
+    "[lo, hi]: 95 % interval of a bootstrap over goals (none with a single goal)."
+)  # fmt: skip
+SIGNIFICANCE_NOTE = (
+    f"the best value of its condition, and better than every other method of the condition "
+    f"in a goal-level sign-flip test (p < {ALPHA:g}, Holm-adjusted across the run's "
+    f"comparisons, within each style; AE and AHC compared with a missing estimate as 90 deg)."
+)
 
 
 def swept(table: pd.DataFrame) -> list[str]:
@@ -101,30 +277,107 @@ def swept(table: pd.DataFrame) -> list[str]:
     return [c for c in ("style", "seed") if c in table.columns and table[c].notna().any()]
 
 
-def summary_view(summary: pd.DataFrame) -> TableView:
-    """Method x condition summary (per swept style): AE, AHC, RR, share without estimate,
-    times."""
+def _bounded(
+    frame: pd.DataFrame, header: str, values: pd.DataFrame, source: str, scale: float = 1.0
+) -> tuple[str, str] | None:
+    """Add ``values[source]`` (times ``scale``) to ``frame`` as ``header``, with its bounds as
+    ``header lo`` and ``header hi`` when ``values`` has them; the bound columns' names."""
+    frame[header] = values[source].astype(float).to_numpy() * scale
+    if f"{source}_lo" not in values.columns:
+        return None
+    ends = (f"{header} lo", f"{header} hi")
+    for end, name in zip(("_lo", "_hi"), ends, strict=True):
+        frame[name] = values[f"{source}{end}"].astype(float).to_numpy() * scale
+    return ends
+
+
+class _Comparisons:
+    """The comparison rows of a run (``method_comparisons``), looked up by cell and methods."""
+
+    def __init__(self, comparisons: pd.DataFrame, factors: list[str]) -> None:
+        self.factors = factors
+        self.rows = {
+            (*(row[f] for f in factors), row["metric"], frozenset((row["method_a"],
+                                                                   row["method_b"]))): row
+            for row in comparisons.to_dict("records")
+        }  # fmt: skip
+
+    def beats(self, cell: tuple[Any, ...], metric: str, lower: bool, a: str, b: str) -> bool:
+        """Whether ``a`` is significantly better than ``b`` on ``metric`` in ``cell``."""
+        row = self.rows.get((*cell, metric, frozenset((a, b))))
+        if row is None or not row["p_goal_holm"] < ALPHA:
+            return False
+        mine, theirs = (
+            (row["value_a"], row["value_b"]) if row["method_a"] == a else
+            (row["value_b"], row["value_a"])
+        )  # fmt: skip
+        return bool(mine < theirs if lower else mine > theirs)
+
+
+def significant_cells(
+    summary: pd.DataFrame, comparisons: pd.DataFrame
+) -> frozenset[tuple[int, str]]:
+    """(row, source column) of ``summary`` (one row per swept style, condition and method)
+    where the method is significantly best of its condition: best value of the column and,
+    in every comparison with another method of the condition, better at p_goal_holm < ALPHA.
+    """
+    factors = [*swept(summary), "condition"]
+    found = _Comparisons(comparisons, factors)
+    cells = set()
+    marked = {c: rule for c, rule in MARKED.items() if c in summary.columns}
+    for cell, rows in summary.groupby(factors, sort=False, dropna=False):
+        for column, (metric, lower) in marked.items():
+            values = rows[column].astype(float)
+            if values.notna().sum() < 2:
+                continue
+            best = values.idxmin() if lower else values.idxmax()
+            mine = rows.at[best, "method"]
+            others = rows.loc[rows.index != best, "method"]
+            if all(found.beats(cell, metric, lower, mine, other) for other in others):
+                cells.add((int(best), column))
+    return frozenset(cells)
+
+
+def summary_view(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFrame) -> TableView:
+    """Method x condition summary (per swept style) in ``order``: goals, pairs, share without
+    estimate, AE, AHC (the paper's and with a missing estimate as 90 deg), RR, catchment,
+    times; each metric with its interval; significantly best cells (``comparisons``: the
+    run's :func:`~homebench.evaluation.results.method_comparisons`) marked."""
+    summary = order.sort(summary)
     frame = summary[[*swept(summary), "condition", "method"]].copy()
-    digits = {}
+    digits, bounds = {}, {}
     for source, (header, rule, scale) in SUMMARY_COLUMNS.items():
         if source in summary.columns:
-            frame[header] = summary[source].astype(float) * scale
             digits[header] = rule
-    title = "Summary per condition and method (AE over pairs with an estimate)"
-    return make_view("summary", title, frame, digits)
+            ends = _bounded(frame, header, summary, source, scale)
+            bounds |= {header: ends} if ends else {}
+    marked = {(row, SUMMARY_COLUMNS[column][0])
+              for row, column in significant_cells(summary, comparisons)}  # fmt: skip
+    title = "Summary per condition and method: estimate [95 % interval]"
+    notes = (
+        INTERVAL_NOTE,
+        "AE over the pairs with an estimate; AHC as configured (the paper's: pairs without an "
+        "estimate left out); RR over the goals whose home field covers the grid.",
+    )
+    return make_view("summary", title, frame, digits, bounds, frozenset(marked),
+                     SIGNIFICANCE_NOTE, notes)  # fmt: skip
 
 
-def _pivot(table: pd.DataFrame, index: list[str], value: str) -> tuple[pd.DataFrame, list[str]]:
-    """``table`` wide: one row per ``index`` value, one column per method (sorted labels)."""
+def _pivot(
+    table: pd.DataFrame, index: list[str], value: str, order: RowOrder
+) -> tuple[pd.DataFrame, list[str]]:
+    """``table`` wide: one row per ``index`` value (conditions in ``order``), one column per
+    method (in ``order``)."""
     wide = table.pivot(index=index, columns="method", values=value).sort_index()
+    methods = order.methods_of(wide.columns)
     wide.columns = [str(c) for c in wide.columns]
-    return wide.reset_index(), list(wide.columns)
+    return order.sort(wide[methods].reset_index()), methods
 
 
-def rr_by_goal_view(goals: pd.DataFrame) -> TableView:
+def rr_by_goal_view(goals: pd.DataFrame, order: RowOrder) -> TableView:
     """Return ratio per condition and goal, one column per method (Figure 10 as a table)."""
     factors = swept(goals)
-    wide, methods = _pivot(goals, [*factors, "condition", "goal_i", "goal_j"], "rr")
+    wide, methods = _pivot(goals, [*factors, "condition", "goal_i", "goal_j"], "rr", order)
     goal = [f"({i}, {j})" for i, j in zip(wide["goal_i"], wide["goal_j"], strict=True)]
     frame = pd.concat([wide[[*factors, "condition"]], pd.Series(goal, name="goal (i, j)"),
                        wide[methods]], axis=1)  # fmt: skip
@@ -132,43 +385,150 @@ def rr_by_goal_view(goals: pd.DataFrame) -> TableView:
     return make_view("rr_by_goal", title, frame, dict.fromkeys(methods, FIXED3))
 
 
-def ahc_by_distance_view(ahc: pd.DataFrame) -> TableView:
-    """AHC per distance bin, one column per method (Figure 9 as a table).
+def ahc_by_distance_view(ahc: pd.DataFrame, order: RowOrder) -> TableView:
+    """AHC per distance bin with its interval, one column per method (Figure 9 as a table).
 
     The "all" row (in the summary) and bins without any pair are left out.
     """
     binned = ahc[(ahc["bin"] != "all") & (ahc["n"] > 0)]
-    wide, methods = _pivot(binned, [*swept(binned), "condition", "centre_cm"], "ahc")
-    wide = wide.rename(columns={"centre_cm": "distance [cm]"})
+    index = [*swept(binned), "condition", "centre_cm"]
+    wide, methods = _pivot(binned, index, "ahc", order)
+    frame = wide.rename(columns={"centre_cm": "distance [cm]"})
+    bounds = {}
+    for method in methods:
+        ends = (f"{method} lo", f"{method} hi")
+        for end, name in zip(("ahc_lo", "ahc_hi"), ends, strict=True):
+            frame[name] = _pivot(binned, index, end, order)[0][method]
+        bounds[method] = ends
     digits = {"distance [cm]": FIXED0, **dict.fromkeys(methods, FIXED3)}
-    title = "AHC by distance between current and goal position (bin centres)"
-    return make_view("ahc_by_distance", title, wide, digits)
+    title = "AHC by distance between current and goal position (bin centres): AHC [95 % interval]"
+    return make_view("ahc_by_distance", title, frame, digits, bounds, notes=(INTERVAL_NOTE,))
 
 
-def report_views(tables: RunTables) -> list[TableView]:
-    """The three report tables of a run (none when the run has no results)."""
+def _oriented(comparisons: pd.DataFrame, order: RowOrder) -> pd.DataFrame:
+    """``comparisons`` with A the method listed first in ``order`` (B - A and its interval
+    negated where A and B swap; the two-sided p-values stay)."""
+    ranks = order.method_ranks([*comparisons["method_a"], *comparisons["method_b"]])
+    swap = (comparisons["method_a"].map(ranks) > comparisons["method_b"].map(ranks)).to_numpy()
+    out = comparisons.copy()
+    for a, b in (("method_a", "method_b"), ("value_a", "value_b"), ("lo", "hi")):
+        out.loc[swap, [a, b]] = comparisons.loc[swap, [b, a]].to_numpy()
+    for column in ("difference", "lo", "hi"):
+        out.loc[swap, column] = -out.loc[swap, column]
+    return out
+
+
+def comparisons_view(comparisons: pd.DataFrame, order: RowOrder) -> TableView:
+    """The paired comparisons of the methods per condition (``comparisons``: the run's
+    :func:`~homebench.evaluation.results.method_comparisons`), in ``order``: B - A with its
+    interval and both Holm-adjusted p-values."""
+    oriented = _oriented(comparisons, order)
+    ranks = order.method_ranks([*oriented["method_a"], *oriented["method_b"]])
+    oriented = order.sort(
+        oriented.assign(
+            metric_rank=oriented["metric"].map({m: k for k, m in enumerate(COMPARED)}),
+            a_rank=oriented["method_a"].map(ranks),
+            b_rank=oriented["method_b"].map(ranks),
+        ),
+        then=["metric_rank", "a_rank", "b_rank"],
+    )
+    frame = oriented[[*swept(oriented), "condition"]].copy()
+    frame["metric"] = [SUMMARY_COLUMNS[m][0] for m in oriented["metric"]]
+    frame["A"], frame["B"] = oriented["method_a"], oriented["method_b"]
+    renamed = oriented.rename(columns={"lo": "difference_lo", "hi": "difference_hi"})
+    ends = _bounded(frame, "B - A", renamed, "difference")
+    frame["p goal (Holm)"] = oriented["p_goal_holm"].astype(float)
+    frame["p pair test (Holm)"] = oriented["p_pair_holm"].astype(float)
+    frame["n goals"] = oriented["n_goals"]
+    digits = {"B - A": FIXED3, "p goal (Holm)": P_VALUE, "p pair test (Holm)": P_VALUE,
+              "n goals": FIXED0}  # fmt: skip
+    title = "Methods compared per condition on the same pairs: B - A [95 % interval]"
+    notes = (
+        "B - A: paired bootstrap over goals; AE and AHC on every pair both methods were "
+        "given, a missing estimate counted as 90 deg; RR on the starts both share.",
+        "p goal (Holm): sign-flip test over goals; p pair test (Holm): Wilcoxon signed-rank "
+        "over pairs (AE, AHC) or McNemar over starts (RR), which ignore that pairs cluster by "
+        "goal; Holm-adjusted across the run's comparisons (within each style).",
+    )
+    bounds = {"B - A": ends} if ends else {}
+    return make_view("comparisons", title, frame, digits, bounds, notes=notes)
+
+
+def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
+    """The report tables of a run in ``order`` (none when the run has no results; no
+    comparisons with a single method)."""
     if tables.pairs.empty:
         return []
-    return [
-        summary_view(tables.summary),
-        rr_by_goal_view(tables.goals),
-        ahc_by_distance_view(tables.ahc),
+    comparisons = method_comparisons(tables)
+    views = [
+        summary_view(tables.summary, order, comparisons),
+        rr_by_goal_view(tables.goals, order),
+        ahc_by_distance_view(tables.ahc, order),
     ]
+    return views + ([comparisons_view(comparisons, order)] if len(comparisons) else [])
+
+
+# --------------------------------------------------------------------------- writers
 
 
 def to_markdown(view: TableView) -> str:
-    text = view.text_frame().to_markdown(
+    text = view.marked_frame(lambda cell: f"**{cell}**").to_markdown(
         index=False, disable_numparse=True, colalign=view.alignment()
     )
-    return f"**{view.title}**\n\n{text}\n"
+    notes = "".join(f"\n{line}\n" for line in view.note_lines("**bold**"))
+    return f"**{view.title}**\n\n{text}\n{notes}"
+
+
+def to_text(view: TableView) -> str:
+    """The console table: title, cells, marked cells with CONSOLE_MARK, note lines."""
+    text = view.marked_frame(lambda cell: cell + CONSOLE_MARK, pad=" ").to_markdown(
+        index=False, disable_numparse=True, colalign=view.alignment(), tablefmt="simple"
+    )
+    return "\n".join([view.title, text, *view.note_lines(CONSOLE_MARK)])
+
+
+#: LaTeX's special characters and what stands for each in text.
+LATEX_SPECIAL = {
+    "\\": r"\textbackslash{}",
+    "&": r"\&",
+    "%": r"\%",
+    "$": r"\$",
+    "#": r"\#",
+    "_": r"\_",
+    "{": r"\{",
+    "}": r"\}",
+    "~": r"\textasciitilde{}",
+    "^": r"\textasciicircum{}",
+}
+#: The LaTeX column type of each kind of column (numbers: siunitx ``S``).
+LATEX_COLUMN = {"text": "l", "number": "S", "interval": "r"}
+
+
+def latex_escape(text: str) -> str:
+    return "".join(LATEX_SPECIAL.get(char, char) for char in text)
 
 
 def to_latex(view: TableView) -> str:
-    """A booktabs tabular inside a table float captioned with the view's title."""
-    columns = "".join("r" if a == "right" else "l" for a in view.alignment())
-    return view.text_frame().to_latex(
-        index=False, escape=True, column_format=columns, caption=view.title,
-        label=f"tab:{view.name}", position="htbp",
+    """The view through pandas' Styler: booktabs rules, siunitx ``S`` columns for single
+    numbers, marked cells ``\\bfseries``, captioned with the title and note lines; a
+    ``longtable`` beyond LATEX_PAGE_ROWS rows. Needs ``booktabs``, ``siunitx`` and
+    ``longtable``."""
+    kinds = view.column_kinds()
+    text = view.text_frame().map(latex_escape)
+    for column, kind in zip(text.columns, kinds, strict=True):
+        if kind == "number":  # siunitx reads a braced cell as text
+            text[column] = text[column].replace(MISSING_TEXT, "{" + MISSING_TEXT + "}")
+    text.columns = [latex_escape(c) for c in text.columns]
+    mask = view.mark_mask()
+    styler = text.style.hide(axis="index").apply(
+        lambda cells: np.where(mask, "bfseries: ;", ""), axis=None
+    )
+    long = len(text) > LATEX_PAGE_ROWS
+    caption = latex_escape(" ".join([f"{view.title}.", *view.note_lines("Bold")]))
+    return styler.to_latex(
+        column_format="".join(LATEX_COLUMN[kind] for kind in kinds), hrules=True, siunitx=True,
+        caption=caption, label=f"tab:{view.name}", position=None if long else "htbp",
+        environment="longtable" if long else None,
     )  # fmt: skip
 
 
