@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numpy as np
 import pandas as pd
@@ -15,6 +18,7 @@ from homebench.evaluation.return_ratio import return_ratio
 from homebench.geometry import FloatArray
 
 BoolArray = NDArray[np.bool_]
+T = TypeVar("T")
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,6 +48,55 @@ class GoalPanel:
         return float(np.mean(valid)) if valid.size else float("nan")
 
 
+@dataclass(frozen=True, order=True)
+class Goal:
+    """A goal of a run: grid index (``i``, ``j``) in the swept world (``style``, ``seed``);
+    ``style`` "" and ``seed`` -1 without a sweep."""
+
+    style: str
+    seed: int
+    i: int
+    j: int
+
+    @property
+    def text(self) -> str:
+        """The goal as text: "(i, j)", plus the world when swept: "(i, j) office seed 2"."""
+        world = " ".join(
+            [
+                *([self.style] if self.style else []),
+                *([f"seed {self.seed}"] if self.seed >= 0 else []),
+            ]
+        )
+        return f"({self.i}, {self.j})" + (f" {world}" if world else "")
+
+    def rows(self, frame: pd.DataFrame) -> pd.Series:
+        """Which rows of ``frame`` (columns style, seed, goal_i, goal_j) are this goal's."""
+        return (
+            (_styles(frame) == self.style)
+            & (_seeds(frame) == self.seed)
+            & (frame["goal_i"] == self.i)
+            & (frame["goal_j"] == self.j)
+        )
+
+
+def _styles(frame: pd.DataFrame) -> pd.Series:
+    return frame["style"].astype(object).where(frame["style"].notna(), "").astype(str)
+
+
+def _seeds(frame: pd.DataFrame) -> pd.Series:
+    return frame["seed"].astype("Float64").fillna(-1).astype(int)
+
+
+def goals_of(frame: pd.DataFrame) -> list[Goal]:
+    """The goal of each row of ``frame`` (columns style, seed, goal_i, goal_j), in row order."""
+    return [
+        Goal(style, int(seed), int(i), int(j))
+        for style, seed, i, j in zip(
+            _styles(frame), _seeds(frame), frame["goal_i"], frame["goal_j"], strict=True
+        )
+    ]
+
+
 def _grid_array(group: pd.DataFrame, shape: tuple[int, int], column: str) -> FloatArray:
     values = np.full(shape, np.nan)
     values[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = (
@@ -53,14 +106,15 @@ def _grid_array(group: pd.DataFrame, shape: tuple[int, int], column: str) -> Flo
 
 
 def goal_panels(
-    pairs: pd.DataFrame, metrics: MetricsConfig, condition: str, goal: tuple[int, int]
+    pairs: pd.DataFrame,
+    metrics: MetricsConfig,
+    condition: str,
+    goal: Goal,
+    methods: Sequence[str] = (),
 ) -> list[GoalPanel]:
-    """One panel per method (sorted labels) for ``goal`` under ``condition``."""
-    chosen = pairs[
-        (pairs["condition"] == condition)
-        & (pairs["goal_i"] == goal[0])
-        & (pairs["goal_j"] == goal[1])
-    ]
+    """One panel per method for ``goal`` under ``condition``: in the order of ``methods``,
+    labels it does not list last (sorted)."""
+    chosen = pairs[(pairs["condition"] == condition) & goal.rows(pairs)]
     rr_config = metrics.return_ratio
     panels = []
     for (_, _, _, method, _, _), field, complete in goal_fields(chosen):
@@ -75,22 +129,29 @@ def goal_panels(
             rr, failed = result.rr, result.started & ~result.success
         ae = _grid_array(group, field.grid.shape, "ae_deg")
         panels.append(GoalPanel(method, field, tested, ae, rr, failed))
-    return panels
+    rank = {label: k for k, label in enumerate(methods)}
+    return sorted(panels, key=lambda panel: (rank.get(panel.label, len(rank)), panel.label))
 
 
-def pick_goals(goals: list[tuple[int, int]], limit: int) -> list[tuple[int, int]]:
-    """At most ``limit`` of ``goals`` (kept in order), spread evenly over the list."""
-    if len(goals) <= limit:
+def pick_goals(goals: Sequence[T], limit: int | None) -> list[T]:
+    """At most ``limit`` of ``goals`` (kept in order), spread evenly over the list; all of
+    them when ``limit`` is None."""
+    if limit is None or len(goals) <= limit:
         return list(goals)
     index = np.unique(np.round(np.linspace(0, len(goals) - 1, limit)).astype(int))
     return [goals[k] for k in index]
 
 
-def condition_goals(pairs: pd.DataFrame, condition: str) -> list[tuple[int, int]]:
-    """The goals with results under ``condition``, sorted."""
+def pages(items: Sequence[T], per_page: int) -> list[list[T]]:
+    """``items`` in order, cut into ``ceil(len / per_page)`` runs of at most ``per_page``."""
+    count = math.ceil(len(items) / per_page)
+    return [list(items[k * per_page : (k + 1) * per_page]) for k in range(count)]
+
+
+def condition_goals(pairs: pd.DataFrame, condition: str) -> list[Goal]:
+    """The goals with results under ``condition``, sorted (by world, then index)."""
     chosen = pairs[pairs["condition"] == condition]
-    unique = chosen[["goal_i", "goal_j"]].drop_duplicates()
-    return sorted((int(i), int(j)) for i, j in unique.itertuples(index=False))
+    return sorted(set(goals_of(chosen)))
 
 
 def image_describe_times(pairs: pd.DataFrame) -> pd.DataFrame:

@@ -1,10 +1,17 @@
-"""Figures on the capture grid, one panel per method side by side: home-vector fields (seed 001,
-Figure 7) and AE heat maps (Figure 8). Axes are world metres, x to the right, y up."""
+"""Figures on the capture grid, one panel per method and goal: home-vector fields (seed 001,
+Figure 7) and AE maps (Figure 8). Axes are world metres, x to the right, y up.
+
+A figure holds the panels of up to :data:`MAX_GOALS_PER_FIGURE` goals, a goal's methods side by
+side; :func:`grid_layout` says how many fit a journal page for a grid, so every goal of a run
+can be drawn on as many figures as it takes. AE maps share one fixed scale, 0 to
+:data:`AE_MAX_DEG` degrees like the paper's; larger errors take the top colour.
+"""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -14,64 +21,141 @@ from matplotlib.patches import Patch, Rectangle
 from matplotlib.ticker import MaxNLocator
 
 from homebench.geometry import Grid
-from homebench.report.figure_data import GoalPanel
+from homebench.report.figure_data import Goal, GoalPanel, pages
 from homebench.report.style import (
+    DOUBLE_COLUMN,
     FAILED_COLOUR,
     GOAL_COLOUR,
     MAX_COLUMNS,
+    MAX_FIGURE_HEIGHT,
     MISSING_COLOUR,
-    PAGE_SIZE,
+    RC_PARAMS,
+    SINGLE_COLUMN,
     MethodStyle,
+    legend_below,
     new_figure,
-    outer_panel,
-    panel_axes,
-    set_title,
+    wrap_to,
 )
 
-#: Height (inches) the titles, labels and legend of a grid figure take, and its least height.
-GRID_FIGURE_MARGIN = 1.8
-MIN_GRID_FIGURE_HEIGHT = 4.0
-#: Arrow length as a share of the grid spacing.
-ARROW_LENGTH = 0.6
-#: AE colour map (dark = small error) and the step the shared scale's top is rounded up to.
+#: Goals drawn on one figure, at most.
+MAX_GOALS_PER_FIGURE = 4
+#: Inches beside the panels (axis labels, colour bar) and below them (legend, x label).
+GRID_SIDE_MARGIN = 1.0
+GRID_BOTTOM_MARGIN = 0.9
+#: Widest panel, inches (few methods: more goals per figure instead of larger panels).
+MAX_PANEL_WIDTH = 2.4
+#: Inches above each panel for its title (three lines).
+PANEL_TITLE_HEIGHT = 0.45
+#: Arrow length as a share of the grid spacing: from a position's centre, it stays in its
+#: cell, so no arrow leaves the axes (limits half a spacing beyond the grid).
+ARROW_LENGTH = 0.45
+#: AE colour map (dark = small error) and its fixed range, degrees.
 AE_CMAP = "viridis"
-AE_SCALE_STEP_DEG = 10.0
+AE_MAX_DEG = 100.0
+
+GoalPanels = tuple[Goal, Sequence[GoalPanel]]
 
 
-def _grid_figure(n: int, grid: Grid) -> tuple[Figure, list[Axes]]:
-    """A page-wide figure for ``n`` grid panels, no taller than the panels need."""
-    columns = min(n, MAX_COLUMNS)
-    rows = math.ceil(n / columns)
-    panel_width = PAGE_SIZE[0] / columns
+@dataclass(frozen=True)
+class GridLayout:
+    """Panels of a grid figure: ``columns`` methods per row, ``rows_per_goal`` rows a goal,
+    panels ``panel_width`` inches wide (plus the title, ``panel_height`` tall), at most
+    ``goals_per_figure`` goals on a figure ``width`` inches wide."""
+
+    columns: int
+    rows_per_goal: int
+    panel_width: float
+    panel_height: float
+    goals_per_figure: int
+    width: float
+
+    def size(self, n_goals: int) -> tuple[float, float]:
+        """Width and height (inches) of a figure of ``n_goals`` goals."""
+        rows = n_goals * self.rows_per_goal
+        return self.width, rows * self.panel_height + GRID_BOTTOM_MARGIN
+
+
+def grid_layout(grid: Grid, n_methods: int) -> GridLayout:
+    """The layout of the field and AE figures of ``n_methods`` methods on ``grid``: one column
+    wide for a single method, else two; as many goals as fit MAX_FIGURE_HEIGHT (at least one,
+    panels shrunk if need be, at most MAX_GOALS_PER_FIGURE)."""
+    columns = min(n_methods, MAX_COLUMNS)
+    rows_per_goal = math.ceil(n_methods / columns)
+    width = SINGLE_COLUMN if columns == 1 else DOUBLE_COLUMN
     aspect = grid.shape[1] / grid.shape[0]
-    height = min(PAGE_SIZE[1], rows * panel_width * aspect + GRID_FIGURE_MARGIN)
-    fig = new_figure((PAGE_SIZE[0], max(height, MIN_GRID_FIGURE_HEIGHT)))
-    return fig, panel_axes(fig, n)
+    room = MAX_FIGURE_HEIGHT - GRID_BOTTOM_MARGIN
+    panel_width = min(
+        MAX_PANEL_WIDTH,
+        (width - GRID_SIDE_MARGIN) / columns,
+        (room / rows_per_goal - PANEL_TITLE_HEIGHT) / aspect,
+    )
+    panel_height = panel_width * aspect + PANEL_TITLE_HEIGHT
+    fits = math.floor(room / (rows_per_goal * panel_height) + 1e-9)
+    goals = max(1, min(MAX_GOALS_PER_FIGURE, fits))
+    return GridLayout(columns, rows_per_goal, panel_width, panel_height, goals, width)
 
 
-def _frame_axes(ax: Axes, grid: Grid, first_column: bool, bottom_row: bool) -> None:
-    """Limits half a spacing beyond the grid, equal aspect, labels on the outer panels."""
+def grid_pages(goals: Sequence[GoalPanels]) -> list[list[GoalPanels]]:
+    """``goals`` cut into the field / AE figures' pages: :func:`grid_layout`'s goals per
+    figure each (none for no goal)."""
+    if not goals:
+        return []
+    n_methods = max(len(panels) for _, panels in goals)
+    per_figure = grid_layout(goals[0][1][0].field.grid, n_methods).goals_per_figure
+    return pages(goals, per_figure)
+
+
+def _grid_axes(goals: Sequence[GoalPanels]) -> tuple[Figure, list[list[Axes]], GridLayout]:
+    """A figure with one axes per method and goal (``axes[goal][method]``); unused slots of a
+    goal's last row are hidden, tick labels only on the outer panels."""
+    n_methods = max(len(panels) for _, panels in goals)
+    layout = grid_layout(goals[0][1][0].field.grid, n_methods)
+    fig = new_figure(layout.size(len(goals)))
+    rows = len(goals) * layout.rows_per_goal
+    grid_axes = fig.subplots(rows, layout.columns, squeeze=False)
+    axes: list[list[Axes]] = []
+    for g, (_, panels) in enumerate(goals):
+        block = grid_axes[g * layout.rows_per_goal : (g + 1) * layout.rows_per_goal].ravel()
+        for ax in block[len(panels) :]:
+            ax.set_visible(False)
+        axes.append(list(block[: len(panels)]))
+    _label_outer(grid_axes, [ax for row in axes for ax in row])
+    return fig, axes, layout
+
+
+def _label_outer(grid_axes: np.ndarray, shown: list[Axes]) -> None:
+    """Axis labels and tick labels on the first column and the lowest shown panel of each
+    column only."""
+    for column in range(grid_axes.shape[1]):
+        visible = [ax for ax in grid_axes[:, column] if ax in shown]
+        for ax in visible:
+            bottom = ax is visible[-1]
+            ax.tick_params(labelbottom=bottom, labelleft=column == 0)
+            ax.set_xlabel("x [m]" if bottom else "")
+            ax.set_ylabel("y [m]" if column == 0 else "")
+
+
+def _frame_axes(ax: Axes, grid: Grid) -> None:
+    """Limits half a spacing beyond the grid, equal aspect."""
     (x0, y0), (x1, y1) = grid.position(0, 0), grid.position(grid.shape[0] - 1, grid.shape[1] - 1)
     half = grid.spacing / 2
     ax.set_xlim(x0 - half, x1 + half)
     ax.set_ylim(y0 - half, y1 + half)
     ax.set_aspect("equal")
     # no tick on the edges: neighbouring panels' edge labels would run into each other
-    ax.xaxis.set_major_locator(MaxNLocator(nbins=6, prune="both"))
-    if bottom_row:
-        ax.set_xlabel("x [m]")
-    if first_column:
-        ax.set_ylabel("y [m]")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(MaxNLocator(nbins=4, prune="both"))
+
+
+def _panel_title(ax: Axes, goal: Goal, panel: GoalPanel, extra: str, width: float) -> None:
+    rr = "RR n/a" if math.isnan(panel.rr) else f"RR {panel.rr:.2f}"
+    text = f"{panel.label}\ngoal {goal.text}\n{extra}, {rr}"
+    ax.set_title(wrap_to(text, width, RC_PARAMS["axes.titlesize"]), fontsize="medium")
 
 
 def _goal_xy(panel: GoalPanel) -> tuple[float, float]:
     x, y = panel.field.goal_xy
     return float(x), float(y)
-
-
-def goal_subtitle(goal: tuple[int, int], grid: Grid) -> str:
-    x, y = grid.position(*goal)
-    return f"goal {goal} at ({x:.2f}, {y:.2f}) m"
 
 
 def _draw_field(ax: Axes, panel: GoalPanel, style: MethodStyle) -> None:
@@ -81,63 +165,54 @@ def _draw_field(ax: Axes, panel: GoalPanel, style: MethodStyle) -> None:
     has = panel.tested & ~np.isnan(angles)
     length = ARROW_LENGTH * grid.spacing
     tested = xy[panel.tested]
-    ax.scatter(tested[:, 0], tested[:, 1], marker="s", s=10, color=MISSING_COLOUR, zorder=1)
+    ax.scatter(tested[:, 0], tested[:, 1], marker="s", s=4, color=MISSING_COLOUR, zorder=1)
     succeeded, failed = has & ~panel.rr_failed, has & panel.rr_failed
     for mask, colour in ((succeeded, style.colour), (failed, FAILED_COLOUR)):
         if not mask.any():
             continue
         u, v = length * np.cos(angles[mask]), length * np.sin(angles[mask])
         ax.quiver(xy[mask][:, 0], xy[mask][:, 1], u, v, color=colour, angles="xy",
-                  scale_units="xy", scale=1, width=0.008, headwidth=4, headlength=4.5,
+                  scale_units="xy", scale=1, width=0.012, headwidth=4, headlength=4.5,
                   headaxislength=4, pivot="tail", zorder=3)  # fmt: skip
     missing = xy[panel.no_estimate]
-    ax.scatter(missing[:, 0], missing[:, 1], marker="x", s=30, color=FAILED_COLOUR, zorder=4)
+    ax.scatter(missing[:, 0], missing[:, 1], marker="x", s=12, linewidths=0.8,
+               color=FAILED_COLOUR, zorder=4)  # fmt: skip
     gx, gy = _goal_xy(panel)
-    ax.scatter([gx], [gy], marker="s", s=80, color=GOAL_COLOUR, edgecolor="black", zorder=5)
+    ax.scatter([gx], [gy], marker="s", s=30, color=GOAL_COLOUR, edgecolor="black",
+               linewidths=0.5, zorder=5, clip_on=False)  # fmt: skip
 
 
-def _field_legend(fig: Figure) -> None:
-    handles = [
-        Line2D([], [], marker="s", ls="", color=GOAL_COLOUR, markersize=8, label="goal"),
-        Line2D([], [], marker="s", ls="", color=MISSING_COLOUR, markersize=4,
-               label="current position"),
-        Line2D([], [], marker=r"$\rightarrow$", ls="", color="#555555", markersize=12,
-               label="home vector (method colour: RR trial from here succeeds)"),
-        Line2D([], [], marker=r"$\rightarrow$", ls="", color=FAILED_COLOUR, markersize=12,
-               label="RR trial from here fails"),
-        Line2D([], [], marker="x", ls="", color=FAILED_COLOUR, markersize=7, label="no estimate"),
-    ]  # fmt: skip
-    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), frameon=False)
+def _legend_columns(fig: Figure) -> int:
+    return 2 if fig.get_figwidth() <= SINGLE_COLUMN else 3
 
 
-def _panel_title(panel: GoalPanel, extra: str) -> str:
-    rr = "RR n/a" if math.isnan(panel.rr) else f"RR {panel.rr:.2f}"
-    return f"{panel.label}\n{extra}, {rr}"
+def field_figure(goals: Sequence[GoalPanels], styles: dict[str, MethodStyle]) -> Figure:
+    """Home-vector fields of several methods towards each of ``goals`` (methods side by side,
+    a goal's panels below the previous goal's).
 
-
-def field_figure(panels: Sequence[GoalPanel], styles: dict[str, MethodStyle], title: str) -> Figure:
-    """Home-vector fields of several methods towards one goal, side by side.
-
-    Arrows point along each position's estimated home direction (world frame), in the method's
-    colour where the return-ratio trial started there succeeds, dark where it fails.
+    Arrows start at each tested position and point along its estimated home direction (world
+    frame), in the method's colour where the return-ratio trial started there succeeds, dark
+    where it fails.
     """
-    fig, axes = _grid_figure(len(panels), panels[0].field.grid)
-    for k, (ax, panel) in enumerate(zip(axes, panels, strict=True)):
-        _draw_field(ax, panel, styles[panel.label])
-        _frame_axes(ax, panel.field.grid, *outer_panel(k, len(panels)))
-        n_missing = int(panel.no_estimate.sum())
-        ax.set_title(_panel_title(panel, f"{n_missing} without estimate"))
-    _field_legend(fig)
-    set_title(fig, title)
+    fig, axes, layout = _grid_axes(goals)
+    for (goal, panels), row in zip(goals, axes, strict=True):
+        for ax, panel in zip(row, panels, strict=True):
+            _draw_field(ax, panel, styles[panel.label])
+            _frame_axes(ax, panel.field.grid)
+            n_missing = int(panel.no_estimate.sum())
+            _panel_title(ax, goal, panel, f"{n_missing} without estimate", layout.panel_width)
+    handles = [
+        Line2D([], [], marker="s", ls="", color=GOAL_COLOUR, markersize=5, label="goal"),
+        Line2D([], [], marker="s", ls="", color=MISSING_COLOUR, markersize=3,
+               label="current position"),
+        Line2D([], [], marker=r"$\rightarrow$", ls="", color="#555555", markersize=9,
+               label="home vector, RR trial succeeds"),
+        Line2D([], [], marker=r"$\rightarrow$", ls="", color=FAILED_COLOUR, markersize=9,
+               label="home vector, RR trial fails"),
+        Line2D([], [], marker="x", ls="", color=FAILED_COLOUR, markersize=5, label="no estimate"),
+    ]  # fmt: skip
+    legend_below(fig, handles, _legend_columns(fig))
     return fig
-
-
-def shared_ae_scale(panels: Sequence[GoalPanel]) -> float:
-    """Top of the AE colour scale (degrees): the largest AE of the panels, rounded up."""
-    values = np.concatenate([p.ae_deg[~np.isnan(p.ae_deg)] for p in panels])
-    top = float(values.max()) if values.size else 0.0
-    return float(min(180.0, max(AE_SCALE_STEP_DEG, math.ceil(top / AE_SCALE_STEP_DEG)
-                                * AE_SCALE_STEP_DEG)))  # fmt: skip
 
 
 def _cell_edges(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
@@ -148,32 +223,42 @@ def _cell_edges(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
     return x, y
 
 
-def ae_figure(panels: Sequence[GoalPanel], title: str) -> Figure:
-    """AE per current position, one heat map per method on one shared colour scale."""
-    fig, axes = _grid_figure(len(panels), panels[0].field.grid)
-    top = shared_ae_scale(panels)
+def _draw_ae(ax: Axes, panel: GoalPanel) -> object:
+    """The AE map of ``panel`` on the fixed scale; returns the mesh (for the colour bar)."""
+    grid = panel.field.grid
+    x, y = _cell_edges(grid)
+    values = np.ma.masked_invalid(panel.ae_deg.T)
+    mesh = ax.pcolormesh(x, y, values, cmap=AE_CMAP, vmin=0.0, vmax=AE_MAX_DEG)
+    ax.set_facecolor("white")
+    s = grid.spacing
+    for cx, cy in grid.position(*np.indices(grid.shape))[panel.no_estimate]:
+        ax.add_patch(Rectangle((cx - s / 2, cy - s / 2), s, s, facecolor=MISSING_COLOUR,
+                               hatch="xx", edgecolor=FAILED_COLOUR, linewidth=0))  # fmt: skip
+    gx, gy = _goal_xy(panel)
+    ax.scatter([gx], [gy], marker="*", s=60, color=GOAL_COLOUR, edgecolor="black",
+               linewidths=0.5, zorder=5, clip_on=False)  # fmt: skip
+    return mesh
+
+
+def ae_figure(goals: Sequence[GoalPanels]) -> Figure:
+    """AE per current position, one map per method and goal, all on the scale 0 to
+    AE_MAX_DEG degrees (larger errors in the top colour; the colour bar's arrow says so)."""
+    fig, axes, layout = _grid_axes(goals)
     mesh = None
-    for k, (ax, panel) in enumerate(zip(axes, panels, strict=True)):
-        grid = panel.field.grid
-        x, y = _cell_edges(grid)
-        values = np.ma.masked_invalid(panel.ae_deg.T)
-        mesh = ax.pcolormesh(x, y, values, cmap=AE_CMAP, vmin=0.0, vmax=top)
-        ax.set_facecolor("white")
-        xy = grid.position(*np.indices(grid.shape))
-        for cx, cy in xy[panel.no_estimate]:
-            s = grid.spacing
-            ax.add_patch(Rectangle((cx - s / 2, cy - s / 2), s, s, facecolor=MISSING_COLOUR,
-                                   hatch="xx", edgecolor=FAILED_COLOUR, linewidth=0))  # fmt: skip
-        gx, gy = _goal_xy(panel)
-        ax.scatter([gx], [gy], marker="*", s=220, color=GOAL_COLOUR, edgecolor="black", zorder=5)
-        _frame_axes(ax, grid, *outer_panel(k, len(panels)))
-        ax.set_title(_panel_title(panel, f"mean AE {panel.mean_ae_deg:.1f} deg"))
-    fig.colorbar(mesh, ax=axes, label="AE [deg] (one scale for all panels)", shrink=0.8)
+    for (goal, panels), row in zip(goals, axes, strict=True):
+        for ax, panel in zip(row, panels, strict=True):
+            mesh = _draw_ae(ax, panel)
+            _frame_axes(ax, panel.field.grid)
+            _panel_title(
+                ax, goal, panel, f"mean AE {panel.mean_ae_deg:.1f} deg", layout.panel_width
+            )
+    shown = [ax for row in axes for ax in row]
+    fig.colorbar(mesh, ax=shown, extend="max", shrink=0.6,
+                 label=f"AE [deg] (above {AE_MAX_DEG:g}: top colour)")  # fmt: skip
     handles = [
-        Line2D([], [], marker="*", ls="", color=GOAL_COLOUR, markersize=10, label="goal"),
+        Line2D([], [], marker="*", ls="", color=GOAL_COLOUR, markersize=7, label="goal"),
         Patch(facecolor=MISSING_COLOUR, hatch="xx", edgecolor=FAILED_COLOUR, label="no estimate"),
         Patch(facecolor="white", edgecolor="#888888", label="not tested"),
     ]
-    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), frameon=False)
-    set_title(fig, title)
+    legend_below(fig, handles, 3)
     return fig

@@ -1,107 +1,315 @@
-"""Figures of one condition's metrics: AHC against distance (seed 001, Figure 9), RR per goal
-(Figure 10) and the time per describe / home call."""
+"""Figures of a run's metrics with its conditions side by side, one panel per condition: AHC
+against distance (seed 001, Figure 9a-c) and RR per goal (Figure 10a-c); and the time per
+describe / home call of one condition.
+
+Fixed scales: RR on [0, 1]; AHC on one range for every panel of a run (:func:`ahc_range`,
+passed in), so panels and figures compare at a glance. A run with many conditions takes
+several figures of at most ``columns x CONDITION_ROWS`` panels (:func:`ahc_pages`,
+:func:`rr_pages`).
+"""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter, LogLocator
 
-from homebench.report.style import PLOT_SIZE, MethodStyle, legend_right, new_figure, set_title
+from homebench.report.figure_data import Goal, goals_of, pages
+from homebench.report.style import (
+    DOUBLE_COLUMN,
+    SINGLE_COLUMN,
+    MethodStyle,
+    in_order,
+    legend_below,
+    new_figure,
+    panel_axes,
+)
 
-#: With more goals than this, RR is drawn as one box per method instead of bars per goal.
+#: Panels of one row (conditions side by side) and rows of one figure, at most.
+CONDITION_COLUMNS = 3
+CONDITION_ROWS = 3
+#: Inches: height of a row of panels, and of the legend and labels below them.
+PANEL_HEIGHT = 2.2
+BOTTOM_MARGIN = 0.6
+#: AHC axis: its lower end is rounded down to this step; it always ends at 1.
+AHC_STEP = 0.1
+#: RR axis, fixed.
+RR_RANGE = (0.0, 1.0)
+#: Width a tick label needs, inches (denser ticks are thinned or turned upright).
+TICK_WIDTH = 0.28
+#: With more goals than this in a panel, RR is drawn as one box per method instead of bars.
 MAX_RR_BARS = 20
-#: With more bars than this, their value labels are turned upright.
-MAX_FLAT_LABELS = 24
+#: Bars in one row of RR panels, at most (more: fewer panels side by side).
+MAX_BARS_PER_ROW = 72
+#: Colour of the CI band in the legend, and of reference lines.
+NEUTRAL = "#888888"
 
 
-def ahc_figure(ahc: pd.DataFrame, styles: dict[str, MethodStyle], title: str) -> Figure:
-    """AHC per distance bin, one line per method.
+@dataclass(frozen=True)
+class ConditionPanel:
+    """One panel: its ``title`` and the rows of a run's table for its condition (and style)."""
 
-    ``ahc``: rows of :func:`homebench.evaluation.results.ahc_table` for one condition; the
-    "all" row and bins without pairs are left out.
-    """
-    fig = new_figure(PLOT_SIZE)
-    ax = fig.add_subplot()
-    binned = ahc[(ahc["bin"] != "all") & (ahc["n"] > 0)]
-    for method, rows in binned.groupby("method", sort=True):
+    title: str
+    rows: pd.DataFrame
+
+
+def _condition_figure(
+    n: int, columns: int, sharex: bool
+) -> tuple[Figure, list[Axes], list[tuple[bool, bool]]]:
+    """A figure of ``n`` panels, ``columns`` per row; and per panel (first column, bottom)."""
+    columns = min(n, columns)
+    rows = math.ceil(n / columns)
+    width = SINGLE_COLUMN if columns == 1 else DOUBLE_COLUMN
+    fig = new_figure((width, rows * PANEL_HEIGHT + BOTTOM_MARGIN))
+    axes = panel_axes(fig, n, columns, sharex)
+    outer = [(k % columns == 0, k + columns >= n) for k in range(n)]
+    return fig, axes, outer
+
+
+def _panel_width(fig: Figure, columns: int) -> float:
+    return fig.get_figwidth() / columns
+
+
+def _method_handles(methods: Sequence[str], styles: dict[str, MethodStyle]) -> list:
+    return [
+        Line2D([], [], color=styles[m].colour, marker=styles[m].marker,
+               linestyle=styles[m].linestyle, markersize=4, label=m)
+        for m in methods
+    ]  # fmt: skip
+
+
+def _letter(k: int) -> str:
+    return f"({chr(ord('a') + k)})" if k < 26 else f"({k + 1})"
+
+
+# --------------------------------------------------------------------------- AHC (Figure 9)
+
+
+def ahc_range(ahc: pd.DataFrame) -> tuple[float, float]:
+    """The AHC axis of every panel of a run: from the lowest AHC or lower CI bound of the
+    ``ahc`` table's bins (rounded down to AHC_STEP, and at most 0, so the zero line shows)
+    to 1. (-1, 1) when the table holds no value."""
+    binned = ahc[ahc["bin"] != "all"] if len(ahc) else ahc
+    values = (
+        pd.concat([binned["ahc"], binned["ahc_lo"]]).astype(float).dropna()
+        if len(binned)
+        else pd.Series(dtype=float)
+    )
+    if values.empty:
+        return -1.0, 1.0
+    low = math.floor(round(float(values.min()) / AHC_STEP, 9)) * AHC_STEP
+    return min(0.0, max(-1.0, low)), 1.0
+
+
+def ahc_pages(panels: Sequence[ConditionPanel]) -> list[list[ConditionPanel]]:
+    """``panels`` cut into the AHC figures' pages."""
+    return pages(panels, CONDITION_COLUMNS * CONDITION_ROWS)
+
+
+def _pairs_text(binned: pd.DataFrame) -> tuple[np.ndarray, list[str]]:
+    """Bin centres and the pairs in each: "n", or "min-max" when the methods differ."""
+    counts = binned.groupby("centre_cm")["n"].agg(["min", "max"])
+    texts = [f"{lo}" if lo == hi else f"{lo}-{hi}" for lo, hi in zip(counts["min"], counts["max"],
+                                                                       strict=True)]  # fmt: skip
+    return counts.index.to_numpy(dtype=float), texts
+
+
+def _draw_ahc(ax: Axes, rows: pd.DataFrame, styles: dict[str, MethodStyle]) -> None:
+    """One line per method with its 95 % CI band; pairs per bin on the top axis."""
+    binned = rows[rows["bin"] != "all"]
+    drawn = binned[binned["n"] > 0]
+    for method, group in drawn.groupby("method", sort=True):
         style = styles[str(method)]
-        ax.plot(rows["centre_cm"], rows["ahc"], color=style.colour, marker=style.marker,
-                linestyle=style.linestyle, label=str(method))  # fmt: skip
-    lowest = float(np.nanmin(binned["ahc"])) if binned["ahc"].notna().any() else 0.0
-    ax.set_ylim(min(0.0, math.floor(lowest * 10) / 10) - 0.05, 1.05)
-    ax.axhline(0.0, color="#888888", linewidth=0.8)
-    ax.set_xticks(sorted(binned["centre_cm"].unique()))
-    ax.set_xlabel("distance between current and goal position [cm]")
-    ax.set_ylabel("AHC = cos(mean AE)")
+        x = group["centre_cm"].to_numpy(dtype=float)
+        ax.fill_between(x, group["ahc_lo"].to_numpy(dtype=float),
+                        group["ahc_hi"].to_numpy(dtype=float), color=style.colour, alpha=0.18,
+                        linewidth=0)  # fmt: skip
+        ax.plot(x, group["ahc"].to_numpy(dtype=float), color=style.colour, marker=style.marker,
+                markersize=3, linestyle=style.linestyle, linewidth=1.0, clip_on=False)  # fmt: skip
+    centres, counts = _pairs_text(binned)
+    top = ax.secondary_xaxis("top")
+    top.set_xticks(centres, counts, rotation=90, fontsize=5.5)
+    top.tick_params(length=2, pad=1)
+    ax.set_xticks(centres)
+    ax.axhline(0.0, color=NEUTRAL, linewidth=0.6)
     ax.grid(True, alpha=0.3)
-    legend_right(ax, "method")
-    set_title(fig, title)
-    return fig
 
 
-def rr_figure(goals: pd.DataFrame, styles: dict[str, MethodStyle], title: str) -> Figure:
-    """Return ratio per goal and method: grouped bars, or one box per method for many goals.
-
-    ``goals``: rows of :func:`homebench.evaluation.results.goal_table` for one condition.
-    Goals whose RR could not be computed (the field does not cover the grid) show "n/a".
-    """
-    fig = new_figure(PLOT_SIZE)
-    ax = fig.add_subplot()
-    methods = sorted(goals["method"].unique())
-    keys = sorted({(int(i), int(j)) for i, j in zip(goals["goal_i"], goals["goal_j"],
-                                                     strict=True)})  # fmt: skip
-    if len(keys) <= MAX_RR_BARS:
-        _rr_bars(ax, goals, methods, keys, styles)
-    else:
-        _rr_boxes(ax, goals, methods, styles)
-    ax.set_ylim(0.0, 1.15)
-    ax.set_ylabel("RR (share of starts reaching the goal)")
-    ax.grid(True, axis="y", alpha=0.3)
-    set_title(fig, title)
-    return fig
+def _thin_ticks(ax: Axes, centres: np.ndarray, width: float) -> None:
+    """Label every k-th bin centre so the labels fit ``width`` inches."""
+    step = max(1, math.ceil(len(centres) * TICK_WIDTH / width))
+    labels = [f"{c:g}" if k % step == 0 else "" for k, c in enumerate(centres)]
+    ax.set_xticks(centres, labels)
 
 
-def _rr_bars(
-    ax: Axes,
-    goals: pd.DataFrame,
-    methods: list[str],
-    keys: list[tuple[int, int]],
+def ahc_figure(
+    panels: Sequence[ConditionPanel],
     styles: dict[str, MethodStyle],
+    limits: tuple[float, float],
+) -> Figure:
+    """AHC per distance bin, one panel per condition, one line per method with its 95 % CI
+    band (``ahc_lo`` to ``ahc_hi``); the pairs per bin (``n``) along the top axis.
+
+    ``panels``: rows of :func:`homebench.evaluation.results.ahc_table` each; ``limits``: the
+    y-range of every panel (:func:`ahc_range` of the whole run).
+    """
+    fig, axes, outer = _condition_figure(len(panels), CONDITION_COLUMNS, sharex=False)
+    width = _panel_width(fig, min(len(panels), CONDITION_COLUMNS))
+    methods: set[str] = set()
+    for k, (ax, panel, (first, bottom)) in enumerate(zip(axes, panels, outer, strict=True)):
+        _draw_ahc(ax, panel.rows, styles)
+        methods |= set(panel.rows["method"])
+        ax.set_ylim(*limits)
+        binned = panel.rows[panel.rows["bin"] != "all"]
+        _thin_ticks(ax, np.sort(binned["centre_cm"].unique().astype(float)), width)
+        ax.set_title(f"{_letter(k)} {panel.title}", loc="left")
+        if bottom:
+            ax.set_xlabel("distance C to H [cm]")
+        if first:
+            ax.set_ylabel("AHC")
+    handles = _method_handles(in_order(styles, methods), styles)
+    handles.append(Patch(color=NEUTRAL, alpha=0.3, label="95 % CI"))
+    legend_below(fig, handles, min(len(handles), 6))
+    return fig
+
+
+# --------------------------------------------------------------------------- RR (Figure 10)
+
+
+@dataclass(frozen=True)
+class RRPanel:
+    """One RR panel: ``title``, the goal table's rows (RR per goal and method) and the summary
+    table's rows (mean RR over the goals with its CI, ``rr``, ``rr_lo``, ``rr_hi``)."""
+
+    title: str
+    goals: pd.DataFrame
+    summary: pd.DataFrame
+
+
+def _rr_columns(panels: Sequence[RRPanel]) -> int:
+    """Panels side by side: as many as keep a row under MAX_BARS_PER_ROW bars."""
+    bars = max(
+        (p.goals["method"].nunique() * (min(_n_goals(p), MAX_RR_BARS) + 1) for p in panels),
+        default=1,
+    )
+    return max(1, min(CONDITION_COLUMNS, MAX_BARS_PER_ROW // max(bars, 1)))
+
+
+def _n_goals(panel: RRPanel) -> int:
+    return len(set(goals_of(panel.goals)))
+
+
+def rr_pages(panels: Sequence[RRPanel]) -> list[list[RRPanel]]:
+    """``panels`` cut into the RR figures' pages."""
+    return pages(panels, _rr_columns(panels) * CONDITION_ROWS)
+
+
+def _offsets(n: int) -> tuple[np.ndarray, float]:
+    width = 0.8 / n
+    return (np.arange(n) - (n - 1) / 2) * width, width
+
+
+def _draw_mean(
+    ax: Axes, x: float, summary: pd.DataFrame, methods: list[str], styles: dict[str, MethodStyle]
 ) -> None:
-    width = 0.8 / len(methods)
-    crowded = len(methods) * len(keys) > MAX_FLAT_LABELS
+    """Each method's mean RR over the goals as a bar at ``x`` with its 95 % CI."""
+    offsets, width = _offsets(len(methods))
+    for offset, method in zip(offsets, methods, strict=True):
+        row = summary[summary["method"] == method]
+        if row.empty or pd.isna(row["rr"].iloc[0]):
+            continue
+        rr, lo, hi = (float(row[c].iloc[0]) for c in ("rr", "rr_lo", "rr_hi"))
+        style = styles[method]
+        ax.bar(x + offset, rr, width, color=style.colour, hatch=style.hatch,
+               edgecolor="white", linewidth=0)  # fmt: skip
+        if not (math.isnan(lo) or math.isnan(hi)):
+            ax.errorbar(x + offset, rr, yerr=[[rr - lo], [hi - rr]], color="black",
+                        linewidth=0.8, capsize=2, clip_on=False)  # fmt: skip
+
+
+def _draw_rr_bars(
+    ax: Axes, goals: pd.DataFrame, keys: list[Goal], methods: list[str],
+    styles: dict[str, MethodStyle],
+) -> None:  # fmt: skip
+    """Bars per goal and method; "n/a" where the goal's field does not cover the grid."""
     position = {key: k for k, key in enumerate(keys)}
-    for m, method in enumerate(methods):
+    offsets, width = _offsets(len(methods))
+    for offset, method in zip(offsets, methods, strict=True):
         rows = goals[goals["method"] == method]
-        x = np.array([position[(int(i), int(j))] for i, j in zip(rows["goal_i"], rows["goal_j"],
-                                                                 strict=True)])  # fmt: skip
-        x = x + (m - (len(methods) - 1) / 2) * width
+        x = np.array([position[g] for g in goals_of(rows)], dtype=float) + offset
         rr = rows["rr"].to_numpy(dtype=float)
-        bars = ax.bar(x, np.nan_to_num(rr), width, color=styles[method].colour, label=method)
-        ax.bar_label(bars, labels=[f"{v:.2f}" if not np.isnan(v) else "" for v in rr],
-                     fontsize=6, padding=2, rotation=90 if crowded else 0)  # fmt: skip
+        style = styles[method]
+        ax.bar(x, np.nan_to_num(rr), width, color=style.colour, hatch=style.hatch,
+               edgecolor="white", linewidth=0)  # fmt: skip
         for xk in x[np.isnan(rr)]:
-            ax.text(xk, 0.02, "n/a", rotation=90, ha="center", va="bottom", fontsize=7)
-    ax.set_xticks(range(len(keys)), [f"({i}, {j})" for i, j in keys])
-    ax.set_xlabel("goal (i, j)")
-    legend_right(ax, "method")
+            ax.text(xk, 0.02, "n/a", rotation=90, ha="center", va="bottom", fontsize=5.5)
 
 
-def _rr_boxes(
+def _draw_rr_boxes(
     ax: Axes, goals: pd.DataFrame, methods: list[str], styles: dict[str, MethodStyle]
 ) -> None:
-    data = [goals.loc[goals["method"] == m, "rr"].dropna().to_numpy() for m in methods]
-    n_goals = goals[["goal_i", "goal_j"]].drop_duplicates().shape[0]
-    _boxes(ax, data, methods, styles, methods)
-    ax.set_xlabel(f"method (RR over {n_goals} goals; diamond = mean)")
-    for k, values in enumerate(data):
-        if values.size:
-            ax.scatter([k + 1], [values.mean()], marker="D", color="black", zorder=3, s=18)
+    """One box of the goals' RR per method (at x = 0)."""
+    offsets, width = _offsets(len(methods))
+    for offset, method in zip(offsets, methods, strict=True):
+        values = goals.loc[goals["method"] == method, "rr"].dropna().to_numpy(dtype=float)
+        if not values.size:
+            continue
+        parts = ax.boxplot([values], positions=[offset], widths=0.9 * width, patch_artist=True,
+                           flierprops={"markersize": 2}, manage_ticks=False)  # fmt: skip
+        parts["boxes"][0].set(facecolor=styles[method].colour, hatch=styles[method].hatch)
+        parts["medians"][0].set_color("black")
+
+
+def rr_figure(panels: Sequence[RRPanel], styles: dict[str, MethodStyle]) -> Figure:
+    """Return ratio per goal and method, one panel per condition; right of a dotted line, each
+    method's mean RR over the goals with its 95 % CI. With more than MAX_RR_BARS goals, a box
+    of the goals' RR per method replaces the bars."""
+    columns = _rr_columns(panels)
+    fig, axes, outer = _condition_figure(len(panels), columns, sharex=False)
+    width = _panel_width(fig, min(len(panels), columns))
+    methods_shown: set[str] = set()
+    for k, (ax, panel, (first, bottom)) in enumerate(zip(axes, panels, outer, strict=True)):
+        methods = in_order(styles, panel.goals["method"])
+        methods_shown |= set(methods)
+        keys = sorted(set(goals_of(panel.goals)))
+        if len(keys) <= MAX_RR_BARS:
+            _draw_rr_bars(ax, panel.goals, keys, methods, styles)
+            ticks = [g.text for g in keys]
+        else:
+            _draw_rr_boxes(ax, panel.goals, methods, styles)
+            keys, ticks = [keys[0]], [f"{len(set(goals_of(panel.goals)))} goals"]
+        mean_x = len(keys) + 0.2
+        ax.axvline(mean_x - 0.6, color=NEUTRAL, linewidth=0.6, linestyle=":")
+        _draw_mean(ax, mean_x, panel.summary, methods, styles)
+        upright = (len(ticks) + 1) * TICK_WIDTH * 2 > width
+        ax.set_xticks([*range(len(keys)), mean_x], [*ticks, "mean"],
+                      rotation=90 if upright else 0)  # fmt: skip
+        ax.set_xlim(-0.6, mean_x + 0.6)
+        ax.set_ylim(*RR_RANGE)
+        ax.grid(True, axis="y", alpha=0.3)
+        ax.set_title(f"{_letter(k)} {panel.title}", loc="left")
+        if bottom:
+            ax.set_xlabel("goal (i, j)")
+        if first:
+            ax.set_ylabel("RR")
+    handles = [
+        Patch(facecolor=styles[m].colour, hatch=styles[m].hatch, edgecolor="white", label=m)
+        for m in in_order(styles, methods_shown)
+    ]
+    handles.append(Line2D([], [], color="black", marker="|", linestyle="", label="95 % CI"))
+    legend_below(fig, handles, min(len(handles), 6))
+    return fig
+
+
+# --------------------------------------------------------------------------- timing
 
 
 def _boxes(
@@ -113,31 +321,29 @@ def _boxes(
 ) -> None:
     """One box per method in its colour, ``ticks`` below; methods with no value keep a slot."""
     shown = [values if values.size else np.array([np.nan]) for values in data]
-    parts = ax.boxplot(shown, patch_artist=True, widths=0.6, flierprops={"markersize": 3})
+    parts = ax.boxplot(shown, patch_artist=True, widths=0.6, flierprops={"markersize": 2})
     for patch, method in zip(parts["boxes"], methods, strict=True):
-        patch.set_facecolor(styles[method].colour)
+        patch.set(facecolor=styles[method].colour, hatch=styles[method].hatch)
     for median in parts["medians"]:
         median.set_color("black")
-    ax.set_xticks(range(1, len(methods) + 1), ticks, rotation=20 if len(methods) > 4 else 0)
+    ax.set_xticks(range(1, len(methods) + 1), ticks, rotation=90 if len(methods) > 3 else 0)
 
 
 def timing_figure(
-    describe_ms: pd.DataFrame,
-    home_ms: pd.DataFrame,
-    styles: dict[str, MethodStyle],
-    title: str,
+    describe_ms: pd.DataFrame, home_ms: pd.DataFrame, styles: dict[str, MethodStyle]
 ) -> Figure:
-    """Time per call on a log axis, one box per method: describe per image, home per pair.
+    """Time per call on a log axis, one box per method (quartiles, median line): describe per
+    image, home per pair.
 
     ``describe_ms``, ``home_ms``: frames with columns ``method`` and ``describe_ms`` /
     ``home_ms`` (milliseconds), one row per call.
     """
-    fig = new_figure(PLOT_SIZE)
+    fig = new_figure((DOUBLE_COLUMN, PANEL_HEIGHT + BOTTOM_MARGIN + 0.4))
     axes = fig.subplots(1, 2, sharey=True)
-    methods = sorted(set(describe_ms["method"]) | set(home_ms["method"]))
+    methods = in_order(styles, [*describe_ms["method"], *home_ms["method"]])
     for ax, frame, column, label in (
-        (axes[0], describe_ms, "describe_ms", "describe: time per image [ms]"),
-        (axes[1], home_ms, "home_ms", "home: time per pair [ms]"),
+        (axes[0], describe_ms, "describe_ms", "describe (per image)"),
+        (axes[1], home_ms, "home_ms", "home (per pair)"),
     ):
         data = [frame.loc[frame["method"] == m, column].to_numpy(dtype=float) for m in methods]
         positive = [values[values > 0] for values in data]
@@ -150,6 +356,5 @@ def timing_figure(
             axis(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.set_title(label)
         ax.grid(True, axis="y", which="both", alpha=0.3)
-    axes[0].set_ylabel("milliseconds (log scale); box: quartiles, line: median")
-    set_title(fig, title)
+    axes[0].set_ylabel("time per call [ms] (log)")
     return fig

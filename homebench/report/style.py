@@ -1,13 +1,18 @@
-"""One look for every report figure: method colours and markers, page sizes, PNG output.
+"""One look for every report figure: method colours and markers, figure sizes, file output.
 
-Colours and markers belong to a method *label* and never depend on which figure draws it: the
-well-known methods are pinned, every other label takes the next free palette entry in sorted
-label order, so the same set of labels always gets the same styles.
+A method's look belongs to its *label* alone, whatever else a run holds: the well-known labels
+are pinned (:data:`PINNED`); any other label takes its colour, marker and line style each from
+its own bytes of the label's SHA-256, so two labels rarely share all three. Every palette colour
+is readable on white (WCAG contrast ratio at least 3).
+
+Sizes follow journal columns: :data:`SINGLE_COLUMN` (3.5 in, 89 mm) and :data:`DOUBLE_COLUMN`
+(7.2 in, 183 mm) wide, at most :data:`MAX_FIGURE_HEIGHT` tall. :func:`save_figure` writes a
+figure as PNG (300 dpi), PDF and SVG, each byte-identical for the same figure.
 """
 
 from __future__ import annotations
 
-import itertools
+import hashlib
 import math
 import textwrap
 from collections.abc import Iterable, Iterator
@@ -24,38 +29,59 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from homebench.fileio import atomic_write  # noqa: E402
 
-#: A4 landscape, inches.
+#: A4 landscape, inches (text and table pages).
 PAGE_SIZE = (11.69, 8.27)
+#: Journal column widths and the tallest figure, inches.
+SINGLE_COLUMN = 3.5
+DOUBLE_COLUMN = 7.2
+MAX_FIGURE_HEIGHT = 9.0
 #: Single-plot figures (inches): half a page, so labels stay readable.
 PLOT_SIZE = (9.0, 5.0)
-#: Resolution of the PNG files (the PDF is vector).
-PNG_DPI = 110
+#: Resolution of the PNG files (PDF and SVG are vector).
+PNG_DPI = 300
 #: Width of a figure title's character, inches (titles wrap to the figure's width).
 TITLE_CHAR_WIDTH = 0.095
+#: Width of a character of text, as a share of its font size (for wrapping panel titles).
+CHAR_WIDTH_EM = 0.6
+#: Margin around and between the panels of a figure, inches.
+LAYOUT_PAD = 0.08
 #: Most panels in one row of a page.
 MAX_COLUMNS = 4
 
-#: Colour-blind-safe palette (Okabe-Ito, then Tol's muted), in assignment order; no colour
-#: near FAILED_COLOUR (Tol's indigo was dropped: its arrows looked like failed ones).
+#: Colour-blind-aware palette (Okabe-Ito, then Tol's), each with contrast >= 3 on white; none
+#: near FAILED_COLOUR or GOAL_COLOUR. The first five are the pinned labels'.
 PALETTE = (
     "#0072B2",
     "#D55E00",
     "#009E73",
     "#CC79A7",
-    "#E69F00",
-    "#56B4E9",
-    "#DDCC77",
     "#882255",
     "#117733",
-    "#999933",
     "#AA4499",
-    "#44AA99",
+    "#997700",
+    "#8C564B",
+    "#EE3377",
+    "#009988",
+    "#999933",
 )
 MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
 LINESTYLES = ("-", "--", "-.", ":")
+#: Bar hatch of each line style (bars have no line): a second cue beside the colour.
+HATCHES = {"-": "", "--": "////", "-.": "....", ":": "xxxx"}
 
-#: Labels whose look is fixed whatever else a run holds (palette index, marker index).
-PINNED = {"sift": (0, 0), "warping": (1, 1), "min-warping": (2, 2), "klt-sector": (3, 3)}
+#: Labels whose look is fixed: (palette index, marker, line style). Seed 001's P is sift,
+#: W is warping, PN is sift without mismatch elimination.
+PINNED = {
+    "sift": (0, "o", "-"),
+    "P": (0, "o", "-"),
+    "warping": (1, "s", "-"),
+    "W": (1, "s", "-"),
+    "min-warping": (2, "^", "-"),
+    "klt-sector": (3, "D", "-"),
+    "PN": (4, "v", "--"),
+}
+#: Palette entries of the labels that are not pinned.
+FREE_COLOURS = tuple(c for k, c in enumerate(PALETTE) if k not in {v[0] for v in PINNED.values()})
 
 #: Colours of marks that are not methods (never in the palette).
 GOAL_COLOUR = "#E41A1C"
@@ -64,15 +90,24 @@ MISSING_COLOUR = "#BBBBBB"
 OUTBOUND_COLOUR = "#777777"
 
 RC_PARAMS = {
-    "font.size": 9,
-    "axes.titlesize": 10,
-    "axes.labelsize": 9,
+    "font.size": 8,
+    "axes.titlesize": 8,
+    "axes.labelsize": 8,
     "figure.titlesize": 12,
-    "legend.fontsize": 8,
-    "xtick.labelsize": 8,
-    "ytick.labelsize": 8,
+    "legend.fontsize": 7,
+    "legend.title_fontsize": 7,
+    "xtick.labelsize": 7,
+    "ytick.labelsize": 7,
     # TrueType fonts keep the PDF's text extractable (Type 3 glyphs are not).
     "pdf.fonttype": 42,
+    # SVG element ids from a fixed salt, not a random one: the same figure, the same bytes
+    "svg.hashsalt": "homebench",
+}
+#: savefig arguments per format: no dates, no software version stamps.
+SAVE_ARGS = {
+    "png": {"dpi": PNG_DPI, "metadata": {"Software": None}},
+    "pdf": {"metadata": {"CreationDate": None, "Producer": None}},
+    "svg": {"metadata": {"Date": None, "Creator": None}},
 }
 
 
@@ -82,24 +117,37 @@ class MethodStyle:
     marker: str
     linestyle: str
 
+    @property
+    def hatch(self) -> str:
+        """The bar hatch that stands for the line style."""
+        return HATCHES[self.linestyle]
+
+
+def method_style(label: str) -> MethodStyle:
+    """The look of ``label``: pinned, or picked by the label's SHA-256 (bytes 0-3 the colour,
+    4-7 the marker, 8-11 the line style)."""
+    if label in PINNED:
+        colour, marker, linestyle = PINNED[label]
+        return MethodStyle(PALETTE[colour], marker, linestyle)
+    digest = hashlib.sha256(label.encode("utf-8")).digest()
+    colour, marker, line = (int.from_bytes(digest[k : k + 4], "big") for k in (0, 4, 8))
+    return MethodStyle(
+        FREE_COLOURS[colour % len(FREE_COLOURS)],
+        MARKERS[marker % len(MARKERS)],
+        LINESTYLES[line % len(LINESTYLES)],
+    )
+
 
 def method_styles(labels: Iterable[str]) -> dict[str, MethodStyle]:
-    """Style of each label: pinned names first, the others in sorted order on the free slots."""
-    styles = {}
-    taken = {slot for slot, _ in PINNED.values()}
-    free = (k for k in itertools.count() if k % len(PALETTE) not in taken)
-    for label in sorted(set(labels)):
-        if label in PINNED:
-            colour, marker = PINNED[label]
-            styles[label] = MethodStyle(PALETTE[colour], MARKERS[marker], LINESTYLES[0])
-            continue
-        k = next(free)
-        styles[label] = MethodStyle(
-            PALETTE[k % len(PALETTE)],
-            MARKERS[k % len(MARKERS)],
-            LINESTYLES[(k // len(PALETTE)) % len(LINESTYLES)],
-        )
-    return styles
+    """:func:`method_style` of each label, once each in the order given: the figures draw and
+    list methods in this dict's order (the report passes the config's)."""
+    return {label: method_style(label) for label in dict.fromkeys(labels)}
+
+
+def in_order(styles: dict[str, MethodStyle], labels: Iterable[str]) -> list[str]:
+    """The labels of ``labels`` (repeats allowed) once each, in ``styles``' order."""
+    present = set(labels)
+    return [label for label in styles if label in present]
 
 
 @contextmanager
@@ -110,23 +158,26 @@ def report_style() -> Iterator[None]:
 
 
 def new_figure(size: tuple[float, float] = PAGE_SIZE) -> Figure:
-    """A figure of the report's page size, laid out by the constrained layout engine."""
-    return plt.figure(figsize=size, layout="constrained")
+    """A figure of ``size`` inches, laid out by the constrained layout engine with a margin
+    of LAYOUT_PAD (its default one lets a multi-line panel title touch the edge)."""
+    fig = plt.figure(figsize=size, layout="constrained")
+    fig.get_layout_engine().set(h_pad=LAYOUT_PAD, w_pad=LAYOUT_PAD)
+    return fig
 
 
-def panel_axes(fig: Figure, n: int) -> list[Axes]:
-    """``n`` axes side by side in rows of at most MAX_COLUMNS, sharing x and y."""
-    columns = min(n, MAX_COLUMNS)
+def panel_axes(fig: Figure, n: int, columns: int = MAX_COLUMNS, sharex: bool = True) -> list[Axes]:
+    """``n`` axes side by side in rows of at most ``columns``, sharing y (and x if ``sharex``)."""
+    columns = min(n, columns)
     rows = math.ceil(n / columns)
-    axes = fig.subplots(rows, columns, sharex=True, sharey=True, squeeze=False).ravel()
+    axes = fig.subplots(rows, columns, sharex=sharex, sharey=True, squeeze=False).ravel()
     for ax in axes[n:]:
         ax.set_visible(False)
     return list(axes[:n])
 
 
-def outer_panel(k: int, n: int) -> tuple[bool, bool]:
+def outer_panel(k: int, n: int, columns: int = MAX_COLUMNS) -> tuple[bool, bool]:
     """Whether panel ``k`` of :func:`panel_axes` is in the first column, and has none below."""
-    columns = min(n, MAX_COLUMNS)
+    columns = min(n, columns)
     return k % columns == 0, k + columns >= n
 
 
@@ -136,14 +187,45 @@ def set_title(fig: Figure, title: str) -> None:
     fig.suptitle("\n".join(textwrap.wrap(title, chars)))
 
 
+def wrap_to(text: str, width_in: float, fontsize: float) -> str:
+    """``text`` wrapped to lines of about ``width_in`` inches at ``fontsize`` points."""
+    chars = max(8, int(72.0 * width_in / (CHAR_WIDTH_EM * fontsize)))
+    return "\n".join(textwrap.fill(line, chars) for line in text.split("\n"))
+
+
 def legend_right(ax: Axes, title: str | None = None) -> None:
     """The legend of ``ax`` beside it, right of the data, top aligned."""
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, title=title,
               frameon=False)  # fmt: skip
 
 
-def save_png(fig: Figure, path: Path) -> Path:
-    """Write ``fig`` as a PNG atomically; the same figure always gives the same bytes."""
-    with atomic_write(Path(path)) as f:
-        fig.savefig(f, format="png", dpi=PNG_DPI, metadata={"Software": None})
-    return Path(path)
+def legend_below(fig: Figure, handles: list, columns: int) -> None:
+    """One legend for the whole figure, below its panels."""
+    fig.legend(handles=handles, loc="outside lower center", ncols=max(1, columns),
+               frameon=False)  # fmt: skip
+
+
+def save_figure(fig: Figure, stem_path: Path) -> list[Path]:
+    """Write ``fig`` as ``<stem_path>.png`` (PNG_DPI), ``.pdf`` and ``.svg`` atomically.
+
+    The figure is laid out once and its layout then frozen (see :func:`freeze_layout`), so
+    the three files show the same picture; no dates or random ids in them: the same figure
+    always gives the same bytes.
+    """
+    freeze_layout(fig)
+    stem = Path(stem_path)
+    return [_save(fig, stem.parent / f"{stem.name}.{suffix}", suffix) for suffix in SAVE_ARGS]
+
+
+def freeze_layout(fig: Figure) -> None:
+    """Lay ``fig`` out now and stop its layout engine: the constrained layout moves things a
+    little at every draw, so each save would otherwise differ from the one before."""
+    if fig.get_layout_engine() is not None:
+        fig.draw_without_rendering()
+        fig.set_layout_engine("none")
+
+
+def _save(fig: Figure, path: Path, suffix: str) -> Path:
+    with plt.rc_context({"svg.hashsalt": RC_PARAMS["svg.hashsalt"]}), atomic_write(path) as f:
+        fig.savefig(f, format=suffix, **SAVE_ARGS[suffix])
+    return path
