@@ -22,10 +22,12 @@ from homebench.report.pages import MAX_WARNINGS, PAGE_LINES, warning_pages
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
 CONDITIONS = ("orig-orig", "orig-day")
-#: title, summary, then per condition two goals x (field, AE) and AHC, RR, timing
-PAGES_PER_CONDITION = 2 * 2 + 3
-#: the same with one goal drawn
-PAGES_PER_CONDITION_ONE_GOAL = 2 + 3
+#: after the title and summary, per condition: its fields and its AE maps (two goals a
+#: figure), its timing; then AHC and RR of all conditions side by side
+PAGES_PER_CONDITION = 3
+PAGES_PER_RUN = 2
+#: the appendix: definitions (2 pages), the config and the environment (1 page each)
+APPENDIX_PAGES = 4
 
 
 @pytest.fixture
@@ -41,7 +43,7 @@ def _text(pdf: Path, page: int) -> str:
 def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
     fake_run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS, name="fake-run")
     outcome = write_report(fake_run, ["pdf", "html", "md"], max_goals=1)
-    pages = 2 + len(CONDITIONS) * PAGES_PER_CONDITION_ONE_GOAL
+    pages = 2 + len(CONDITIONS) * PAGES_PER_CONDITION + PAGES_PER_RUN + APPENDIX_PAGES
     folder = fake_run / "report"
     pdf = folder / "report.pdf"
     assert outcome.warnings == []
@@ -58,9 +60,10 @@ def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
     assert "mean AE [deg]" in summary and "90.00" in summary and "20.00" in summary
     # figures come grouped by condition, in the config's order
     assert "orig-orig (current: db-orig" in _text(pdf, 2)
-    assert "orig-day (current: db-orig, goal: db-day)" in _text(pdf, pages - 1)
+    last_figure = pages - 1 - APPENDIX_PAGES
+    assert "orig-day (current: db-orig, goal: db-day)" in _text(pdf, last_figure)
     figures = sorted((folder / "figures").glob("*.png"))
-    assert len(figures) == pages - 2
+    assert len(figures) == pages - 2 - APPENDIX_PAGES
     assert figures == sorted(p for p in outcome.files if p.suffix == ".png")
     for path in figures:
         image = cv2.imread(str(path))
@@ -85,7 +88,7 @@ def test_two_reports_of_a_run_are_byte_identical(fake_run: Path, tmp_path: Path)
 def test_only_some_goals_are_drawn_when_asked(fake_run: Path) -> None:
     outcome = write_report(fake_run, ["md"], max_goals=1)
     names = [p.name for p in outcome.files if p.suffix == ".png"]
-    assert sorted(n for n in names if n.endswith("_field.png")) == ["orig-orig_goal_1_2_field.png"]
+    assert sorted(n for n in names if "_fields_" in n) == ["orig-orig_fields_1.png"]
     assert "(1 of 2 goals shown)" in (fake_run / "report" / "report.md").read_text()
     assert not (fake_run / "report" / "report.pdf").exists()
 
@@ -103,7 +106,8 @@ def test_missing_and_corrupt_jobs_get_a_warning_page(fake_run: Path) -> None:
     assert "orig-orig_mine_2_3.json" in warning and "orig-orig_warping_1_2.json" in warning
     assert "missing or corrupt job files: 2" in _text(pdf, 0)
     # each goal keeps one method: both goals are still drawn, after the warning page
-    assert len(pypdf.PdfReader(pdf).pages) == 2 + PAGES_PER_CONDITION + 1
+    figure_pages = PAGES_PER_CONDITION + PAGES_PER_RUN
+    assert len(pypdf.PdfReader(pdf).pages) == 2 + 1 + figure_pages + APPENDIX_PAGES
 
 
 def test_a_folder_that_is_no_run_or_has_no_results_is_a_data_error(
@@ -133,7 +137,7 @@ def test_cli_report_and_compare_on_a_real_run(tmp_path: Path, arena_manifest: Pa
     assert run / "report" / "report.pdf" in printed and run / "report" / "report.html" in printed
     assert all(p.is_file() for p in printed)
     pdf = pypdf.PdfReader(run / "report" / "report.pdf")
-    assert len(pdf.pages) == 2 + PAGES_PER_CONDITION_ONE_GOAL
+    assert len(pdf.pages) == 2 + PAGES_PER_CONDITION + PAGES_PER_RUN + APPENDIX_PAGES
 
     other = tmp_path / "b"
     shutil.copytree(run, other)
@@ -147,7 +151,7 @@ def test_cli_report_and_compare_on_a_real_run(tmp_path: Path, arena_manifest: Pa
     assert f"missing job result jobs/{plan[0]['key']}.json" in result.stderr
     result = runner.invoke(main, ["compare", str(run), str(other)])
     assert result.exit_code == 0, result.output
-    assert "mean AE diff [deg]" in result.stdout and "min-warping" in result.stdout
+    assert "mean_ae_deg" in result.stdout and "min-warping" in result.stdout
 
     result = runner.invoke(main, ["report", str(tmp_path / "nowhere")])
     assert result.exit_code == 2

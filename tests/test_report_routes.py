@@ -37,8 +37,9 @@ ERRORS = {
     "line-3m-r1": (0.007, 0.20),
     "line-3m-r2": (0.030, 0.60),
 }
-#: title, the table per length, the table per trial, the error figure, one page per length
-PAGES = 1 + 2 + 1 + 2
+#: title, the table per length, the table per trial, the error figure, one page per length,
+#: the config and the environment
+PAGES = 1 + 2 + 1 + 2 + 2
 
 
 def _jobs() -> list[RouteJob]:

@@ -1,15 +1,20 @@
-"""Text pages of the PDF report: the title page, the warning page and table pages."""
+"""Text pages of the PDF report: the title page, the warning page, table pages and the
+appendix (definitions, config, environment)."""
 
 from __future__ import annotations
 
 import textwrap
+from dataclasses import dataclass
 from typing import Any
 
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.table import Table
 
 from homebench.errors import HomebenchError
 from homebench.methods import registry
 from homebench.methods.params import paper_statement
+from homebench.report.appendix import CONFIG_TITLE, DEFINITIONS_TITLE, ENVIRONMENT_TITLE, Appendix
 from homebench.report.run_data import RunData, RunInfo
 from homebench.report.style import new_figure
 from homebench.report.tables import TableView
@@ -23,6 +28,13 @@ MAX_WARNINGS = 200
 TABLE_ROWS = 24
 #: Characters per line of a table header on the PDF pages (longer headers wrap).
 HEADER_WIDTH = 16
+#: Font size of the table cells (points) unless shrunk to fit the page's width.
+TABLE_FONT_SIZE = 8
+#: Where a table page's table goes (figure fraction: left, bottom, width, height); its notes
+#: go below.
+TABLE_AREA = (0.03, 0.1, 0.94, 0.82)
+#: Share of the room a table shrunk to fit is given (room for rounding of text widths).
+TABLE_FIT = 0.97
 
 
 def _goals_text(goals: Any) -> str:
@@ -105,6 +117,7 @@ def run_summary(run: RunData) -> dict[str, list[str]]:
             f"{'half the perimeter' if rr.max_travel is None else f'{rr.max_travel:g}'} "
             "(grid units)",
             f"catchment: {'yes' if metrics.catchment else 'no'}",
+            f"what the metrics and intervals mean: '{DEFINITIONS_TITLE}', after the figures",
         ],
         "Results": [
             f"{len(run.tables.pairs)} pairs from {n_jobs} job(s)",
@@ -114,36 +127,84 @@ def run_summary(run: RunData) -> dict[str, list[str]]:
     }
 
 
-def _hanging(line: str) -> str:
-    """The indent of a long ``line``'s continuation lines: its own indent and four spaces."""
-    return line[: len(line) - len(line.lstrip())] + "    "
+@dataclass(frozen=True)
+class TextLayout:
+    """How text pages set their lines: ``width`` characters per line, ``lines`` per column,
+    ``columns`` per page, in a font of ``fontsize`` points and ``family``."""
+
+    width: int
+    lines: int
+    columns: int
+    fontsize: float
+    family: str
 
 
-def _text_pages(title: str, lines: list[str]) -> list[Figure]:
-    """``lines`` wrapped to LINE_WIDTH, PAGE_LINES per page, under ``title``."""
+PROSE = TextLayout(LINE_WIDTH, PAGE_LINES, 1, 9, "sans-serif")
+#: JSON: short lines in a fixed-width font, two columns a page.
+CODE = TextLayout(80, 52, 2, 7, "monospace")
+
+
+def _hanging(line: str, extra: str) -> str:
+    """The indent of a long ``line``'s continuation lines: its own indent and ``extra``."""
+    return line[: len(line) - len(line.lstrip())] + extra
+
+
+def _text_pages(
+    title: str, lines: list[str], layout: TextLayout = PROSE, hang: str = "    "
+) -> list[Figure]:
+    """``lines`` wrapped to the layout's width (continuation lines indented by ``hang`` more
+    than their line), as many pages as they fill, under ``title``."""
     wrapped = [
         part
         for line in lines
-        for part in textwrap.wrap(line, LINE_WIDTH, subsequent_indent=_hanging(line)) or [""]
+        for part in textwrap.wrap(
+            line, layout.width, subsequent_indent=_hanging(line, hang), break_on_hyphens=False
+        )
+        or [""]
     ]
+    per_page = layout.lines * layout.columns
     pages = []
-    for start in range(0, max(len(wrapped), 1), PAGE_LINES):
+    for start in range(0, max(len(wrapped), 1), per_page):
         fig = new_figure()
         heading = title if start == 0 else f"{title} (continued)"
         fig.text(0.06, 0.94, heading, fontsize=16, weight="bold", va="top")
-        fig.text(0.06, 0.88, "\n".join(wrapped[start : start + PAGE_LINES]), fontsize=9,
-                 va="top", linespacing=1.45)  # fmt: skip
+        for column in range(layout.columns):
+            first = start + column * layout.lines
+            fig.text(0.06 + column * 0.88 / layout.columns, 0.88,
+                     "\n".join(wrapped[first : first + layout.lines]), fontsize=layout.fontsize,
+                     family=layout.family, va="top", linespacing=1.45)  # fmt: skip
         pages.append(fig)
     return pages
+
+
+def section_lines(sections: dict[str, list[str]], gap: bool = False) -> list[str]:
+    """Headed sections as text lines: each heading in capitals, its lines indented below;
+    ``gap``: a blank line between the lines (paragraphs)."""
+    lines = []
+    for heading, section in sections.items():
+        lines.append(heading.upper())
+        for line in section:
+            lines += [f"    {line}", *([""] if gap else [])]
+        lines += [] if gap else [""]
+    return lines
 
 
 def title_pages(run: RunInfo, summary: dict[str, list[str]]) -> list[Figure]:
     """The title page: ``summary``'s sections (config, results, environment), continued if
     long."""
-    lines = []
-    for heading, section in summary.items():
-        lines += [heading.upper(), *(f"    {line}" for line in section), ""]
-    return _text_pages(f"homebench report: {run.name}", lines)
+    return _text_pages(f"homebench report: {run.name}", section_lines(summary))
+
+
+def appendix_pages(appendix: Appendix) -> list[Figure]:
+    """The definitions of the metrics and statistics (if any), the resolved config, the
+    environment and the data sets' checksums."""
+    pages = []
+    if appendix.definitions:
+        lines = section_lines(appendix.definitions, gap=True)
+        pages += _text_pages(DEFINITIONS_TITLE, lines, hang="")
+    pages += _text_pages(CONFIG_TITLE, appendix.config, CODE)
+    pages += _text_pages(ENVIRONMENT_TITLE, section_lines(appendix.environment))
+    return pages
 
 
 def warning_pages(warnings: list[str]) -> list[Figure]:
@@ -160,20 +221,39 @@ def warning_pages(warnings: list[str]) -> list[Figure]:
     return _text_pages("Warning: missing job results", lines)
 
 
+def _fit_table(table: Table, ax: Axes) -> None:
+    """Shrink ``table`` (font, then row heights) until it lies within ``ax``."""
+    renderer = ax.get_figure(root=True).canvas.get_renderer()
+    size = TABLE_FONT_SIZE
+    for _ in range(3):  # column widths follow the font only roughly (padding)
+        width = table.get_window_extent(renderer).width
+        if width <= ax.bbox.width:
+            break
+        size *= TABLE_FIT * ax.bbox.width / width
+        table.set_fontsize(size)
+    height = table.get_window_extent(renderer).height
+    if height > ax.bbox.height:
+        table.scale(1.0, TABLE_FIT * ax.bbox.height / height)
+
+
 def table_pages(view: TableView) -> list[Figure]:
-    """``view`` drawn as matplotlib tables, TABLE_ROWS rows per page."""
-    text = view.text_frame()
+    """``view`` drawn as matplotlib tables, TABLE_ROWS rows per page, shrunk to fit the page;
+    marked cells in bold, the view's note lines under the table."""
+    text, marked, alignment = view.text_frame(), view.mark_mask(), view.alignment()
+    notes = "\n".join(part for line in view.note_lines("Bold")
+                      for part in textwrap.wrap(line, LINE_WIDTH + 40))  # fmt: skip
     pages = []
     for start in range(0, max(len(text), 1), TABLE_ROWS):
         chunk = text.iloc[start : start + TABLE_ROWS]
         fig = new_figure()
-        ax = fig.add_subplot()
+        fig.set_layout_engine("none")  # the table is placed by hand, inside TABLE_AREA
+        ax = fig.add_axes(TABLE_AREA)
         ax.axis("off")
         labels = ["\n".join(textwrap.wrap(c, HEADER_WIDTH)) for c in chunk.columns]
         table = ax.table(cellText=chunk.to_numpy().tolist(), colLabels=labels,
                          loc="upper center", cellLoc="right", colLoc="center")  # fmt: skip
         table.auto_set_font_size(False)
-        table.set_fontsize(8)
+        table.set_fontsize(TABLE_FONT_SIZE)
         table.auto_set_column_width(list(range(len(chunk.columns))))
         table.scale(1.0, 1.5)
         header_lines = max(label.count("\n") + 1 for label in labels)
@@ -181,9 +261,14 @@ def table_pages(view: TableView) -> list[Figure]:
             if row == 0:
                 cell.set_text_props(weight="bold")
                 cell.set_height(cell.get_height() * header_lines)
-            elif view.alignment()[column] == "left":
+                continue
+            if alignment[column] == "left":
                 cell.set_text_props(ha="left")
+            if marked[start + row - 1, column]:
+                cell.set_text_props(weight="bold")
+        _fit_table(table, ax)
         part = f" ({start // TABLE_ROWS + 1})" if len(text) > TABLE_ROWS else ""
         fig.suptitle(view.title + part)
+        fig.text(TABLE_AREA[0], TABLE_AREA[1] - 0.01, notes, fontsize=7, va="top")
         pages.append(fig)
     return pages
