@@ -1,0 +1,95 @@
+"""`homebench leaderboard`: one metric of several runs' methods under each condition."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from test_report_runs import FakeMethod, write_fake_run
+
+from homebench.cli import main
+from homebench.report.leaderboard import leaderboard
+
+CONDITIONS = ("a-a", "a-b")
+
+
+def _ahc(offset_deg: float) -> str:
+    return f"{math.cos(math.radians(offset_deg)):.3f}"
+
+
+@pytest.fixture
+def runs(tmp_path: Path) -> tuple[Path, Path]:
+    first = write_fake_run(
+        tmp_path / "first",
+        [FakeMethod("warping", 20.0), FakeMethod("sift", 5.0)],
+        conditions=CONDITIONS,
+    )
+    second = write_fake_run(tmp_path / "second", [FakeMethod("klt", 30.0)], conditions=CONDITIONS)
+    return first, second
+
+
+def test_one_row_per_method_and_one_column_per_condition(runs) -> None:
+    frame = leaderboard(runs).view.frame
+    assert list(frame.columns) == ["method", *CONDITIONS]
+    assert list(frame["method"]) == ["klt", "sift", "warping"]
+    cells = frame.set_index("method")
+    # every goal has the same AE: a zero-width interval; the smallest AE has the best AHC
+    assert cells.loc["sift", "a-a"] == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] *"
+    assert cells.loc["klt", "a-b"] == f"{_ahc(30)} [{_ahc(30)}, {_ahc(30)}]"
+
+
+def test_mean_ae_marks_the_smallest(runs) -> None:
+    cells = leaderboard(runs, metric="mean_ae_deg").view.frame.set_index("method")
+    assert cells.loc["sift", "a-b"] == "5.00 [5.00, 5.00] *"
+    assert cells.loc["warping", "a-b"] == "20.00 [20.00, 20.00]"
+
+
+def test_a_label_with_other_parameters_in_another_run_gets_one_row_per_run(
+    tmp_path: Path,
+) -> None:
+    a = write_fake_run(tmp_path / "a", [FakeMethod("warping", 10.0)])
+    b = write_fake_run(tmp_path / "b", [FakeMethod("warping", 10.0)], conditions=("b-b",))
+    merged = leaderboard([a, b]).view.frame
+    assert list(merged["method"]) == ["warping"] and list(merged.columns) == [
+        "method",
+        "a-a",
+        "b-b",
+    ]
+    config = json.loads((b / "config.resolved.json").read_text())
+    config["methods"][0]["params"] = {"ratio": 0.7}
+    (b / "config.resolved.json").write_text(json.dumps(config))
+    split = leaderboard([a, b]).view.frame
+    assert list(split["method"]) == ["a: warping", "b: warping"]
+    assert list(split.set_index("method").loc["a: warping"]) == [
+        f"{_ahc(10)} [{_ahc(10)}, {_ahc(10)}] *",
+        "--",
+    ]
+
+
+def test_cli_writes_the_table_file_and_an_index_page(runs, tmp_path: Path) -> None:
+    (runs[0] / "report").mkdir()
+    (runs[0] / "report" / "report.pdf").write_bytes(b"%PDF")
+    out, page = tmp_path / "out" / "board.csv", tmp_path / "out" / "index.html"
+    args = [
+        "leaderboard",
+        *map(str, runs),
+        "--metric",
+        "rr",
+        "--out",
+        str(out),
+        "--html",
+        str(page),
+    ]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith("**RR per method and condition")
+    assert sorted(out.parent.iterdir()) == [out, page]
+    assert out.read_text().splitlines()[0] == "method,a-a,a-b"
+    index = page.read_text()
+    assert '<a href="../first/report/report.pdf">first</a>' in index
+    assert "<li>second: no report</li>" in index
+    result = CliRunner().invoke(main, ["leaderboard", str(runs[0]), "--metric", "speed"])
+    assert result.exit_code == 2
