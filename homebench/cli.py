@@ -8,7 +8,6 @@ file or key); 3 a failed ``--check`` threshold (a regression, not a crash).
 from __future__ import annotations
 
 import errno
-import math
 import os
 import sys
 from collections.abc import Sequence
@@ -99,18 +98,20 @@ def data_list() -> None:
 )  # fmt: skip
 @click.option("--out", type=click.Path(path_type=Path), help="Folder to write (default: cache).")
 @click.option("--jobs", "-j", type=int, default=-1, show_default=True, help="Parallel workers.")
-def data_generate(database: str, variants: tuple[str, ...], out: Path | None, jobs: int) -> None:
+@click.option("--no-progress", is_flag=True, help="Hide the progress bar.")
+def data_generate(
+    database: str, variants: tuple[str, ...], out: Path | None, jobs: int, no_progress: bool
+) -> None:
     """Generate DATABASE (a generated set's name or manifest) and print its folder."""
     from homebench.data.catalog import ensure_generated, generate_variant
+    from homebench.data.generate import progress_bars
 
-    if not variants:
-        db = ensure_generated(database, out, jobs)
-        click.echo(str(db.root))
-        return
-    for variant in variants:
-        target = out / variant if out is not None and len(variants) > 1 else out
-        db = generate_variant(database, variant, target, jobs)
-        click.echo(str(db.root))
+    with progress_bars(not no_progress):
+        if not variants:
+            click.echo(str(ensure_generated(database, out, jobs).root))
+        for variant in variants:
+            target = out / variant if out is not None and len(variants) > 1 else out
+            click.echo(str(generate_variant(database, variant, target, jobs).root))
 
 
 @data.command("verify")
@@ -181,23 +182,13 @@ def methods() -> None:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit
 
 
-def _format_summary(summary: Any) -> str:
-    shown = summary.copy()
-    columns = {
-        "style": "style",
-        "condition": "condition",
-        "method": "method",
-        "pairs": "pairs",
-        "no_estimate_share": "no est.",
-        "mean_ae_deg": "mean AE [deg]",
-        "median_ae_deg": "median AE [deg]",
-        "ahc": "AHC",
-        "rr": "RR",
-        "describe_ms": "describe [ms/img]",
-        "home_ms": "home [ms/pair]",
-    }
-    shown = shown[[c for c in columns if c in shown.columns]].rename(columns=columns)
-    return shown.to_string(index=False, float_format=lambda v: "-" if math.isnan(v) else f"{v:.3g}")
+def _format_summary(tables: Any, config: Any) -> str:
+    """The run's summary table as the report shows it (the same cells, order and marks)."""
+    from homebench.evaluation.results import method_comparisons
+    from homebench.report.tables import config_order, summary_view, to_text
+
+    view = summary_view(tables.summary, config_order(config), method_comparisons(tables))
+    return to_text(view)
 
 
 def _run_routes(
@@ -225,7 +216,8 @@ def _run_routes(
     if not no_report and not outcome.table.empty:
         from homebench.report.document import write_report
 
-        click.echo(f"report: {write_report(outcome.run_dir).files[-1]}")
+        report_files = write_report(outcome.run_dir, progress=not no_progress).files
+        click.echo(f"report: {report_files[-1]}")
     for failure in outcome.failures:
         click.echo(f"homebench: trial {failure.key} failed: {failure.error}", err=True)
     if outcome.failures:
@@ -334,10 +326,9 @@ def run(
     A job that fails (raises, crashes, hangs past the timeout, runs out of memory) is recorded
     in the run folder and reported; a plain rerun reports it again, --retry-failed reruns it.
     """
-    from homebench.config import config_kind, load_config
+    from homebench.api import run_grid
+    from homebench.config import config_kind
     from homebench.errors import ConfigError
-    from homebench.evaluation.results import build_tables, write_tables
-    from homebench.evaluation.runner import Execution, run_plan
 
     if config_kind(config_file, overrides) == "route":
         grid_only = (
@@ -350,31 +341,24 @@ def run(
             )
         _run_routes(config_file, overrides, jobs, force, no_progress, no_report)
         return
-    config = load_config(config_file, overrides)
-    execution = Execution(
-        jobs=jobs if jobs is not None else config.jobs,
+    done = run_grid(
+        config_file,
+        overrides,
+        jobs=jobs,
+        timeout_s=timeout,
         backend=backend,
         scheduler=scheduler,
         shard=shard,
-        timeout_s=timeout if timeout is not None else config.job_timeout_s,
-        memory_mb=config.worker_memory_mb,
         retry_failed=retry_failed,
-    )
-    outcome = run_plan(
-        config,
-        config_file,
-        execution,
         force=force,
         update=update,
-        overrides=overrides,
         show_progress=not no_progress,
     )
+    config, outcome, tables, written = done.config, done.outcome, done.tables, done.files
     for note in outcome.notes:
         click.echo(f"homebench: note: {note}", err=True)
-    tables = build_tables(outcome.run_dir, config.metrics)
-    written = write_tables(tables, outcome.run_dir, config.table_format)
     if not tables.summary.empty:
-        click.echo(_format_summary(tables.summary))
+        click.echo(_format_summary(tables, config))
     failed_jobs = sum(failure.kind == "home" for failure in outcome.failures)
     failed = f", {failed_jobs} failed" if failed_jobs else ""
     click.echo(
@@ -390,7 +374,7 @@ def run(
     if not no_report and not tables.summary.empty:
         from homebench.report.document import write_report
 
-        report_files = write_report(outcome.run_dir).files
+        report_files = write_report(outcome.run_dir, progress=not no_progress).files
         click.echo(f"report: {report_files[-1]}")
     failed_pairs = _report_failures(outcome, tables.pairs)
     if outcome.failures or failed_pairs:
@@ -419,35 +403,108 @@ def run(
 )  # fmt: skip
 @click.option("--out", type=click.Path(path_type=Path), help="Folder (default: RUN_DIR/report).")
 @click.option(
-    "--max-goals", type=click.IntRange(min=1), default=4, show_default=True,
-    help="Goals per condition drawn as vector fields and AE maps.",
+    "--max-goals", type=click.IntRange(min=1), default=None,
+    help="Goals per condition drawn as vector fields and AE maps (default: every goal).",
 )  # fmt: skip
-def report(run_dir: Path, formats: tuple[str, ...], out: Path | None, max_goals: int) -> None:
+@click.option("--no-progress", is_flag=True, help="Hide the progress bar over the figures.")
+def report(
+    run_dir: Path,
+    formats: tuple[str, ...],
+    out: Path | None,
+    max_goals: int | None,
+    no_progress: bool,
+) -> None:
     """Write the tables, figures and PDF report of the run in RUN_DIR."""
     from homebench.report.document import write_report
 
-    outcome = write_report(run_dir, formats, out, max_goals)
+    outcome = write_report(run_dir, formats, out, max_goals, progress=not no_progress)
     for warning in outcome.warnings:
         click.echo(f"homebench: warning: missing job result {warning}", err=True)
     for path in outcome.files:
         click.echo(str(path))
 
 
+_LABEL = click.option(
+    "--label", "labels", multiple=True, metavar="NAME",
+    help="Name of a run, in the runs' order (repeatable; default: the folders' names).",
+)  # fmt: skip
+_TABLE_OUT = click.option(
+    "--out", type=click.Path(path_type=Path),
+    help="Also write the table to this file: .csv, .md or .tex.",
+)  # fmt: skip
+
+
 @main.command()
 @click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("--out", type=click.Path(path_type=Path), help="Also write the table here.")
-def compare(run_dirs: tuple[Path, ...], out: Path | None) -> None:
-    """Compare runs with the first one: AE, AHC, RR differences and time ratios."""
-    from homebench.report.compare import compare_runs
-    from homebench.report.tables import to_markdown, write_views
+@_LABEL
+@click.option(
+    "--fail-if", "fail_if", multiple=True, metavar="EXPR",
+    help="Exit 3 when a run's change to the first meets EXPR in any cell (repeatable), e.g. "
+    "'ahc < -0.02', 'mean_ae_deg > 2', 'home_ms > 1.5' (times: ratios).",
+)  # fmt: skip
+@_TABLE_OUT
+def compare(
+    run_dirs: tuple[Path, ...], labels: tuple[str, ...], fail_if: tuple[str, ...], out: Path | None
+) -> None:
+    """Compare runs with the first: what differs in their configs and environments, then per
+    condition and method the change in mean AE, AHC and RR with its 95 % interval and
+    Holm-corrected p-value (paired where the runs share goals) and the time ratios."""
+    from homebench.report.compare import Threshold, compare_runs, renderer_for, write_view_file
+    from homebench.report.tables import to_markdown
 
-    comparison = compare_runs(run_dirs)
+    thresholds = [Threshold.parse(text) for text in fail_if]
+    if out is not None:
+        renderer_for(out)
+    comparison = compare_runs(run_dirs, labels)
+    click.echo(comparison.differences_text() + "\n")
     for warning in comparison.warnings:
         click.echo(f"homebench: warning: {warning}", err=True)
     click.echo(to_markdown(comparison.view()))
     if out is not None:
-        for path in write_views([comparison.view()], out):
-            click.echo(str(path))
+        click.echo(str(write_view_file(comparison.view(), out)))
+    reasons = [reason for t in thresholds for reason in t.violations(comparison.table)]
+    for reason in reasons:
+        click.echo(f"homebench: check failed: {reason}", err=True)
+    if reasons:
+        sys.exit(EXIT_CHECK)
+    if thresholds:
+        click.echo(f"all {len(thresholds)} --fail-if threshold(s) passed")
+
+
+@main.command()
+@click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option(
+    "--metric", type=click.Choice(["ahc", "rr", "mean_ae_deg"]), default="ahc",
+    show_default=True, help="The metric shown.",
+)  # fmt: skip
+@_LABEL
+@_TABLE_OUT
+@click.option(
+    "--html", "html_file", type=click.Path(path_type=Path),
+    help="Also write an HTML page with the table and a link to each run's report.",
+)  # fmt: skip
+def leaderboard(
+    run_dirs: tuple[Path, ...],
+    metric: str,
+    labels: tuple[str, ...],
+    out: Path | None,
+    html_file: Path | None,
+) -> None:
+    """One table of the methods of RUN_DIRS under each condition: the metric with its 95 %
+    interval, the best of each column marked *."""
+    from homebench.report.compare import renderer_for, write_view_file
+    from homebench.report.leaderboard import leaderboard as make_leaderboard
+    from homebench.report.leaderboard import write_index
+    from homebench.report.tables import to_markdown
+
+    if out is not None:
+        renderer_for(out)
+    board = make_leaderboard(run_dirs, labels, metric)
+    click.echo(to_markdown(board.view))
+    if out is not None:
+        click.echo(str(write_view_file(board.view, out)))
+    if html_file is not None:
+        click.echo(str(write_index(board, html_file)))
 
 
 @main.command()

@@ -1,4 +1,4 @@
-"""The run config: YAML -> validated, frozen objects. Unknown keys are errors.
+"""The run config: YAML -> validated, frozen objects. Unknown keys are errors ("did you mean").
 
 Example (see ``configs/quickstart.yaml``)::
 
@@ -13,7 +13,7 @@ Example (see ``configs/quickstart.yaml``)::
     currents: all                      # or {min_distance: 0.3, max_distance: 1.2} (metres)
     methods:
       - {method: warping}
-      - {method: warping, label: warping-coarse, params: {rho_steps: 10}}
+      - {method: warping, label: warping-coarse, params: {n_rho: 10}}
 
 Checks that need the databases (a goal outside the grid) happen when the run is planned.
 """
@@ -33,6 +33,7 @@ from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
+from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
 
 ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
@@ -42,6 +43,20 @@ SweptWorld = tuple[str | None, int | None]
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _misspelt_keys(cls, data: Any) -> Any:
+        """An unknown key close to a known one is an error naming both ("did you mean"); other
+        unknown keys are left to pydantic, whose message gives the key's own line."""
+        if isinstance(data, dict):
+            for key in data:
+                hint = (
+                    did_you_mean(str(key), cls.model_fields) if key not in cls.model_fields else ""
+                )
+                if hint:
+                    raise ValueError(f"unknown key {key!r}{hint}")
+        return data
 
 
 class DatabaseRef(_Strict):
@@ -235,9 +250,10 @@ class RunConfig(_Strict):
                 raise ValueError(f"conditions[{k}]: {condition!r} is not 'current-goal'")
             unknown = [p for p in parts if p not in self.databases]
             if unknown:
+                hint = did_you_mean(unknown[0], self.databases)
                 raise ValueError(
-                    f"conditions[{k}]: unknown database alias {unknown[0]!r}; "
-                    f"defined: {', '.join(self.databases)}"
+                    f"conditions[{k}]: unknown database alias {unknown[0]!r}"
+                    + (hint or f"; defined: {', '.join(self.databases)}")
                 )
         labels = [label for label, _, _ in self.method_points()]
         repeated = sorted({label for label in labels if labels.count(label) > 1})

@@ -30,6 +30,7 @@ from homebench.data.generate import (
 from homebench.data.manifest import Manifest, load_manifest
 from homebench.data.synth.spec import VARIANTS, WorldSpec
 from homebench.errors import ConfigError, DataError, UnknownDatabaseError
+from homebench.suggest import unknown
 
 #: The manifests shipped with the repository (the package is installed editable from it).
 SHIPPED_MANIFESTS = Path(homebench.__file__).resolve().parent.parent / "data_manifests"
@@ -89,10 +90,13 @@ def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
         return known[str(name_or_path)].manifest, None
     if candidate.is_dir():
         raise DataError(f"{candidate}: a database folder needs a {MANIFEST_NAME}")
-    names = ", ".join(sorted(known)) or "(none)"
     raise UnknownDatabaseError(
-        f"unknown database {str(name_or_path)!r}; known: {names} "
-        "(or give the path of a manifest .yaml or of a database folder)"
+        unknown(
+            "database",
+            str(name_or_path),
+            known,
+            " (or give the path of a manifest .yaml or of a database folder)",
+        )
     )
 
 
@@ -141,7 +145,7 @@ def generate_variant(
     manifest, _ = find_manifest(name_or_path)
     spec = _generator_spec(manifest)
     if variant not in VARIANTS:
-        raise ConfigError(f"unknown variant {variant!r}; known: {', '.join(VARIANTS)}")
+        raise ConfigError(unknown("variant", variant, VARIANTS))
     spec = WorldSpec.model_validate({**spec.model_dump(), "variant": variant})
     stem = manifest.name.removesuffix(f"-{manifest.generator.spec.variant}")
     name = f"{stem}-{variant}"

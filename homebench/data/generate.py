@@ -12,8 +12,11 @@ import hashlib
 import json
 import math
 import os
+import sys
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -21,6 +24,7 @@ import cv2
 import numpy as np
 from joblib import Parallel, delayed, effective_n_jobs
 from numpy.typing import NDArray
+from tqdm import tqdm
 
 from homebench.data.fingerprint import fingerprint
 from homebench.data.manifest import (
@@ -47,6 +51,19 @@ IMAGE_PATTERN = "{x}_{y}.png"
 BATCHES_PER_JOB = 4
 
 Progress = Callable[[int, int], None]
+#: Whether generation shows a bar over positions (on stderr, when it is a terminal).
+_BARS: ContextVar[bool] = ContextVar("homebench_generation_bars", default=True)
+
+
+@contextmanager
+def progress_bars(enabled: bool) -> Iterator[None]:
+    """Within the block, every generation shows its bar over positions (``enabled``, and only
+    when stderr is a terminal) or none (``homebench run --no-progress``)."""
+    token = _BARS.set(enabled)
+    try:
+        yield
+    finally:
+        _BARS.reset(token)
 
 
 class Renderer(Protocol):
@@ -164,7 +181,7 @@ def generate(
     ``out_dir`` defaults to :func:`generated_root`. A folder that already holds this spec's
     generation is returned as it is; any other existing folder but an empty one is a DataError
     (never overwritten). ``jobs`` follows joblib (-1 = all cores); ``progress(done, total)``
-    is called as positions finish.
+    is called as positions finish, and a bar shows them (see :func:`progress_bars`).
     """
     final = Path(out_dir) if out_dir is not None else generated_root(name, spec)
     if is_generated(final, spec):
@@ -199,11 +216,19 @@ def _build(
         (folder / kind).mkdir()
     positions = list(spec.to_grid().indices())
     n_jobs = effective_n_jobs(jobs)
-    batches = _split(positions, n_jobs * BATCHES_PER_JOB if n_jobs > 1 else 1)
+    # in this process, one position per batch costs nothing and moves the bar position by position
+    batches = _split(positions, n_jobs * BATCHES_PER_JOB if n_jobs > 1 else len(positions))
     files: dict[str, dict[str, str | None]] = {"raw": {}, "unfolded": {}}
     prints: dict[str, dict[str, str]] = {"raw": {}, "unfolded": {}}
     done = 0
-    with warnings.catch_warnings():
+    bar = tqdm(
+        total=len(positions),
+        desc=f"generate {name}",
+        unit="position",
+        file=sys.stderr,
+        disable=None if _BARS.get() else True,  # None: off unless stderr is a terminal
+    )
+    with bar, warnings.catch_warnings():
         # loky replaces a worker whose memory grew (a world's textures: ~250 MB) and says so
         warnings.filterwarnings("ignore", "A worker stopped while some jobs", UserWarning)
         results = Parallel(n_jobs=n_jobs, return_as="generator")(
@@ -214,6 +239,7 @@ def _build(
                 files[kind][file_name] = digest
                 prints[kind][file_name] = content
             done += len(batch)
+            bar.update(len(batch))
             if progress is not None:
                 progress(done, len(positions))
     files = {kind: dict(sorted(names.items())) for kind, names in files.items()}

@@ -21,6 +21,7 @@ from importlib.metadata import EntryPoint, entry_points, packages_distributions,
 from typing import Any, TypeVar
 
 from homebench.errors import ConfigError, HomebenchError
+from homebench.suggest import did_you_mean, unknown
 
 T = TypeVar("T")
 
@@ -122,7 +123,7 @@ def get(name: str) -> type:
         return registered[name]
     ep = _entry_points().get(name)
     if ep is None:
-        raise ConfigError(f"unknown method {name!r}; known: {', '.join(names()) or 'none'}")
+        raise ConfigError(unknown("method", name, names()))
     return _load(ep)
 
 
@@ -151,13 +152,17 @@ def parameters(name: str) -> dict[str, Any]:
 
 
 def create(name: str, **params: Any) -> Any:
-    """Instantiate a registered method; unknown parameters are a ConfigError."""
+    """Instantiate a registered method; unknown parameters are a ConfigError naming the closest
+    known one (or listing them all)."""
     cls = get(name)
     known = {f.name for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(params) - known)
-    if unknown:
-        raise ConfigError(
-            f"method {name!r} has no parameter(s) {', '.join(unknown)}; "
-            f"known: {', '.join(sorted(known))}"
+    extra = sorted(set(params) - known)
+    if extra:
+        hints = [f"{p}{did_you_mean(p, known)}" for p in extra]
+        listed = (
+            ""
+            if any(h != p for h, p in zip(hints, extra, strict=True))
+            else (f"; known: {', '.join(sorted(known))}")
         )
+        raise ConfigError(f"method {name!r} has no parameter(s) {', '.join(hints)}{listed}")
     return cls(**params)

@@ -1,23 +1,44 @@
-"""A contact sheet of a grid database: every position's panorama laid out as on the floor."""
+"""A contact sheet of a grid database: every position's panorama laid out as on the floor, one
+position large with the manifest's conventions marked on it.
+
+The marks come from the manifest's camera model through :mod:`homebench.geometry`, so a user
+can check a manifest they wrote: on the unfolded panorama, a vertical line at azimuth 0 and
+ticks at 90, 180 and 270 deg (where azimuth grows), a horizontal line at the horizon row; on a
+raw image, the rays of azimuth 0 and 90 deg from the centre and the horizon circle.
+"""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.artist import Artist  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.gridspec import GridSpec  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Circle  # noqa: E402
 
 from homebench.config import UnfoldConfig  # noqa: E402
 from homebench.data.database import GridDatabase  # noqa: E402
 from homebench.fileio import atomic_write  # noqa: E402
+from homebench.geometry import CatadioptricGeometry, PanoramaGeometry  # noqa: E402
 from homebench.imaging.projection import unfold  # noqa: E402
 from homebench.methods.base import View  # noqa: E402
 
 #: Panorama width shown for raw-only databases (unfolded on the fly).
 SHEET_PANORAMA_WIDTH = 288
+#: Colours of the marks: azimuth 0, azimuth 90 deg (raw images), the horizon.
+AZIMUTH_0_COLOUR = "#ff2020"
+AZIMUTH_90_COLOUR = "#ffb000"
+HORIZON_COLOUR = "#20a0ff"
+#: Sheet width, width of the grid and of the panels beside it, height of the text (inches).
+SHEET_WIDTH, GRID_WIDTH, PANEL_WIDTH, TEXT_HEIGHT = 16.0, 7.0, 5.6, 1.1
+#: Largest height of the raw image's panel (inches).
+RAW_HEIGHT = 4.2
 
 
 def _panorama(database: GridDatabase, i: int, j: int) -> View:
@@ -28,14 +49,96 @@ def _panorama(database: GridDatabase, i: int, j: int) -> View:
     return View(unfold(raw.image, raw.geometry, geometry), geometry)
 
 
-def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, int]) -> Path:
-    """Write a PNG: the grid of panoramas (x to the right, y up) and one raw + unfolded pair.
+def _grows(direction: str) -> str:
+    return "to the right" if direction == "ccw" else "to the left"
 
-    ``sample`` is the grid position shown large. Returns ``path``.
-    """
+
+def mark_panorama(ax: Axes, geometry: PanoramaGeometry) -> list[Artist]:
+    """Mark azimuth 0 (a vertical line at its column, triangles on the image's edges), ticks at
+    every 90 deg of azimuth and the horizon (a line at its row) on an axes showing an image of
+    ``geometry`` with imshow's default extent (pixel centres at integer coordinates, as in
+    :mod:`homebench.geometry`). Returns the azimuth-0 line, the horizon line (if the horizon
+    is in the image), the triangles."""
+    azimuths = [0.0, 90.0, 180.0, 270.0]
+    columns = geometry.azimuth_to_column([math.radians(a) for a in azimuths])
+    ax.set_xticks(columns, [f"az {a:.0f}°" for a in azimuths], fontsize=7)
+    zero = float(columns[0])
+    marks: list[Artist] = [ax.axvline(zero, color=AZIMUTH_0_COLOUR, lw=1.2)]
+    row = geometry.horizon_row
+    if -0.5 <= row <= geometry.height - 0.5:
+        marks.append(ax.axhline(row, color=HORIZON_COLOUR, lw=1.2))
+        ax.set_yticks([row], ["horizon"], fontsize=7)
+    else:
+        ax.set_yticks([])
+    edges = [-0.5, geometry.height - 0.5]  # triangles on the image's edges: seen at column 0
+    marks += ax.plot(
+        [zero, zero], edges, ls="", marker="v", ms=6, color=AZIMUTH_0_COLOUR, clip_on=False
+    )
+    return marks
+
+
+def mark_raw(ax: Axes, geometry: CatadioptricGeometry) -> list[Artist]:
+    """Mark the rays of azimuth 0 and 90 deg (centre to the outer radius) and the horizon
+    circle on an axes showing a raw image of ``geometry`` (imshow's default extent)."""
+    cx, cy = geometry.centre
+    outer = float(geometry.radius_to_elevation(geometry.outer_radius))
+    marks: list[Artist] = []
+    for azimuth, colour, label in ((0.0, AZIMUTH_0_COLOUR, "azimuth 0"),
+                                   (90.0, AZIMUTH_90_COLOUR, "azimuth 90°")):  # fmt: skip
+        u, v = geometry.bearing_to_pixel(math.radians(azimuth), outer)
+        line = Line2D([cx, float(u)], [cy, float(v)], color=colour, lw=1.2, label=label)
+        marks.append(ax.add_line(line))
+    circle = Circle(
+        (cx, cy), geometry.horizon_radius, fill=False, color=HORIZON_COLOUR, lw=1.2, label="horizon"
+    )
+    marks.append(ax.add_patch(circle))
+    ax.legend(handles=marks, loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=7)
+    return marks
+
+
+def conventions_text(database: GridDatabase, i: int, j: int) -> str:
+    """The manifest's conventions the marks show, one line each, for the sheet."""
+    lines = [f"heading at ({i}, {j}): {math.degrees(database.heading(i, j)):g}°"]
+    if "raw" in database.kinds:
+        raw = database.geometry("raw")
+        assert isinstance(raw, CatadioptricGeometry)
+        side = "outside" if raw.up_is_outside else "inside"
+        lines += [
+            f"raw {raw.width} x {raw.height} px: centre ({raw.centre[0]:g}, {raw.centre[1]:g}), "
+            f"horizon radius {raw.horizon_radius:.1f} px, above the horizon {side} it;",
+            f"    azimuth 0 at image angle {math.degrees(raw.zero_angle):g}° (ccw from +u), "
+            f"azimuth {raw.direction}",
+        ]
+    pano = _panorama(database, i, j).geometry
+    assert isinstance(pano, PanoramaGeometry)
+    made = "" if "unfolded" in database.kinds else " (unfolded here from the raw image)"
+    lines += [
+        f"unfolded {pano.width} x {pano.height} px{made}: azimuth 0 at column "
+        f"{pano.zero_column:g}, growing {_grows(pano.direction)};",
+        f"    elevation {math.degrees(pano.elevation_top):+.1f}° (top edge) to "
+        f"{math.degrees(pano.elevation_bottom):+.1f}° (bottom edge), horizon at row "
+        f"{pano.horizon_row:.1f}",
+    ]
+    return "\n".join(lines)
+
+
+def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, int]) -> Path:
+    """Write a PNG: the grid of panoramas (x to the right, y up) and, beside it, position
+    ``sample`` large (its raw image if the set has raw images, its unfolded panorama) with the
+    conventions marked, and the conventions as text. Returns ``path``."""
     nx, ny = database.grid.shape
-    fig = plt.figure(figsize=(16, 9), dpi=110)
-    outer = GridSpec(1, 2, width_ratios=[1.25, 1], figure=fig, wspace=0.08)
+    si, sj = sample
+    pano = _panorama(database, si, sj)
+    assert isinstance(pano.geometry, PanoramaGeometry)
+    heights = {"unfolded": PANEL_WIDTH * pano.image.shape[0] / pano.image.shape[1]}
+    if "raw" in database.kinds:
+        height, width = database.manifest.section("raw").size[::-1]
+        heights = {"raw": min(RAW_HEIGHT, PANEL_WIDTH * height / width), **heights}
+    heights["conventions"] = TEXT_HEIGHT
+    grid_height = ny * GRID_WIDTH / nx * heights["unfolded"] / PANEL_WIDTH * 1.2
+    panels_height = sum(heights.values()) * 1.3
+    fig = plt.figure(figsize=(SHEET_WIDTH, max(grid_height, panels_height) + 1.6), dpi=110)
+    outer = GridSpec(1, 2, width_ratios=[1.25, 1], figure=fig, wspace=0.12, top=0.9, bottom=0.06)
     cells = outer[0].subgridspec(ny, nx, wspace=0.04, hspace=0.12)
     for i in range(nx):
         for j in range(ny):
@@ -47,18 +150,26 @@ def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, i
                 ax.set_xlabel(str(i), fontsize=6, labelpad=1)
             if i == 0:
                 ax.set_ylabel(str(j), fontsize=6, rotation=0, labelpad=6, va="center")
-    right = outer[1].subgridspec(2, 1, height_ratios=[2.2, 1], hspace=0.2)
-    si, sj = sample
-    if "raw" in database.kinds:
+    right = outer[1].subgridspec(len(heights), 1, height_ratios=list(heights.values()), hspace=0.3)
+    axes = {panel: fig.add_subplot(right[k]) for k, panel in enumerate(heights)}
+    if "raw" in axes:
         raw = database.view(si, sj, "raw")
-        ax = fig.add_subplot(right[0])
-        ax.imshow(raw.image, cmap="gray", vmin=0, vmax=255)
-        ax.set_title(f"raw image at ({si}, {sj})", fontsize=9)
-        ax.axis("off")
-    ax = fig.add_subplot(right[1])
-    ax.imshow(_panorama(database, si, sj).image, cmap="gray", vmin=0, vmax=255)
-    ax.set_title(f"unfolded panorama at ({si}, {sj}); azimuth grows to the right", fontsize=9)
-    ax.axis("off")
+        assert isinstance(raw.geometry, CatadioptricGeometry)
+        axes["raw"].imshow(raw.image, cmap="gray", vmin=0, vmax=255)
+        mark_raw(axes["raw"], raw.geometry)
+        axes["raw"].set_title(f"raw image at ({si}, {sj})", fontsize=9)
+        axes["raw"].set_xticks([])
+        axes["raw"].set_yticks([])
+    axes["unfolded"].imshow(pano.image, cmap="gray", vmin=0, vmax=255)
+    mark_panorama(axes["unfolded"], pano.geometry)
+    axes["unfolded"].set_title(
+        f"unfolded panorama at ({si}, {sj}); azimuth grows {_grows(pano.geometry.direction)}",
+        fontsize=9,
+    )
+    axes["conventions"].axis("off")
+    axes["conventions"].text(
+        0, 1, conventions_text(database, si, sj), va="top", fontsize=8, family="monospace"
+    )
     spacing_cm = round(database.grid.spacing * 100)
     fig.suptitle(
         f"{database.name}: {nx} x {ny} grid, {spacing_cm} cm apart (x to the right, y up)",
