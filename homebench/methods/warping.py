@@ -177,16 +177,24 @@ class Warping:
             raise ValueError(f"warping: features must have shape ({self.n_columns},)")
         if is_flat(current) or is_flat(goal):
             return HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
-        cost = self.costs(current, goal)
-        r, a, p = np.unravel_index(int(np.argmin(cost)), cost.shape)
-        rho = self.rho[r]
-        alpha = TWO_PI * a / self.n_alpha
-        psi = float(wrap_angle(TWO_PI * p / self.n_psi))
-        angle = None if r == 0 else float(wrap_angle(alpha - psi + np.pi))
-        return HomingEstimate(
-            angle=angle,
-            rotation=psi,
-            n_landmarks=self.n_columns,
-            score=float(cost[r, a, p]),
-            diagnostics={"rho": rho, "alpha": float(alpha), "psi": psi},
-        )
+        return best_hypothesis(self.costs(current, goal), self.rho, self.n_columns)
+
+
+def best_hypothesis(cost: FloatArray, rho: tuple[float, ...], n_landmarks: int) -> HomingEstimate:
+    """The estimate of a warping search's best (rho, alpha, psi): home direction eq. 4,
+    ``beta = alpha - psi + pi``, rotation psi.
+
+    ``cost``: shape (n_rho, n_alpha, n_psi), lower is better, alpha and psi evenly spaced
+    over a full turn; ``rho``: the searched values (n_rho,), the first 0 (no displacement:
+    no direction, see the module docstring). Shared by every warping variant.
+    """
+    r, a, p = np.unravel_index(int(np.argmin(cost)), cost.shape)
+    alpha = TWO_PI * a / cost.shape[1]
+    psi = float(wrap_angle(TWO_PI * p / cost.shape[2]))
+    return HomingEstimate(
+        angle=None if r == 0 else float(wrap_angle(alpha - psi + np.pi)),
+        rotation=psi,
+        n_landmarks=n_landmarks,
+        score=float(cost[r, a, p]),
+        diagnostics={"rho": rho[r], "alpha": float(alpha), "psi": psi},
+    )

@@ -1,0 +1,158 @@
+"""Landmarks as dark and bright sectors of the horizon, for ALV and the snapshot model.
+
+The horizon signal (n,) (canonical columns: column k looks at azimuth ``2*pi*k/n`` ccw) is
+thresholded; every maximal circular run of columns below the threshold is a dark sector, every
+run at or above it a bright sector, so dark and bright sectors alternate around the horizon. A
+sector's centre is the azimuth midway between its first and last column, its width the number
+of its columns times the column step. A signal on one side of the threshold everywhere (a flat
+one) has no sectors: there is no edge to locate one by.
+
+Threshold rules (the papers use scenes of black landmarks on white, where any grey level between
+the two separates them; natural scenes need a rule per image): the signal's ``mean`` or
+``median``.
+
+:class:`LandmarkViews` holds what the two methods share besides: their horizon and compass
+parameters, ``describe`` (the horizon signal and the compass image) and the goal's sectors
+turned into the current robot frame by the visual compass.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.errors import ConfigError
+from homebench.geometry import TWO_PI, PanoramaGeometry, wrap_angle
+from homebench.imaging.horizon import horizon_signal
+from homebench.methods.base import View
+from homebench.methods.params import check_choices, param
+from homebench.methods.visual_compass import (
+    COMPASS_MEANING,
+    Compass,
+    compass_image,
+    compass_rotation,
+)
+
+FloatArray = NDArray[np.float64]
+
+#: Length below which a home vector of unit-vector sums counts as zero (no direction).
+ZERO_VECTOR = 1e-9
+
+ThresholdRule = Literal["mean", "median"]
+LandmarkKind = Literal["dark", "bright"]
+
+
+@dataclass(frozen=True)
+class Sectors:
+    """Sectors of one horizon: centres (m,) radians in [-pi, pi), widths (m,) radians, and
+    dark (m,) bool (True: below the threshold). m = 0 when there are none."""
+
+    centres: FloatArray
+    widths: FloatArray
+    dark: NDArray[np.bool_]
+
+    def of_kind(self, kind: LandmarkKind) -> Sectors:
+        """The dark or the bright sectors only."""
+        keep = self.dark if kind == "dark" else ~self.dark
+        return Sectors(self.centres[keep], self.widths[keep], self.dark[keep])
+
+    def turned(self, rotation: float) -> Sectors:
+        """These sectors seen by a robot turned ccw by ``rotation`` radians (azimuths minus it)."""
+        return Sectors(wrap_angle(self.centres - rotation), self.widths, self.dark)
+
+
+def threshold(signal: FloatArray, rule: ThresholdRule) -> float:
+    """Grey level separating dark from bright columns by ``rule``."""
+    return float(np.median(signal)) if rule == "median" else float(np.mean(signal))
+
+
+def horizon_sectors(signal: FloatArray, rule: ThresholdRule = "mean") -> Sectors:
+    """Dark and bright sectors of a horizon signal (n,), in canonical columns."""
+    n = signal.size
+    dark = signal < threshold(signal, rule)
+    starts = np.flatnonzero(dark != np.roll(dark, 1))  # first column of every run
+    if starts.size == 0:
+        empty = np.zeros(0)
+        return Sectors(empty, empty, np.zeros(0, dtype=bool))
+    lengths = np.diff(np.append(starts, starts[0] + n))
+    step = TWO_PI / n
+    centres = wrap_angle((starts + 0.5 * (lengths - 1)) * step)
+    return Sectors(centres, lengths * step, dark[starts])
+
+
+def vector_direction(vector: FloatArray) -> float | None:
+    """Angle of a home vector (2,), or None when it is (numerically) zero."""
+    if float(np.hypot(vector[0], vector[1])) <= ZERO_VECTOR:
+        return None
+    return float(np.arctan2(vector[1], vector[0]))
+
+
+@dataclass(frozen=True)
+class LandmarkViews:
+    """What ALV and the snapshot model share: the horizon signal, its sectors, the compass.
+
+    A mix-in of parameter fields and feature code for the two method dataclasses."""
+
+    band_half_width_deg: float = param(
+        1.0,
+        "The horizon signal is the mean of the rows within this many degrees of the horizon.",
+        reading="the papers threshold the horizon line of black landmarks on white; a narrow band "
+        "(about one row of a 72-row panorama) stays on that line, where the sectors seen from "
+        "nearby places differ least",
+    )
+    n_columns: int | None = param(
+        None, "Columns of the horizon signal (Fourier-resampled); None keeps the image's width."
+    )
+    threshold: ThresholdRule = param(
+        "mean",
+        "Grey level that separates dark from bright columns: the signal's mean or median.",
+        reading="the papers' scenes are black and white, where any level between the two "
+        "separates landmarks from background; a per-image rule for grey-level scenes",
+    )
+    compass: Compass = param(
+        "visual",
+        COMPASS_MEANING,
+        reading="the model compares sector bearings in a frame fixed to the world, which the "
+        "papers get from an external compass; homebench's stand-in is the visual compass "
+        "(none: the views are taken as captured at one heading, as in grid databases)",
+    )
+
+    def check_landmark_params(self) -> None:
+        """ConfigError (naming the method) for a bad choice, band or column count."""
+        check_choices(self)
+        name = getattr(self, "name", "landmark method")
+        if not 0.0 < self.band_half_width_deg < 90.0:
+            raise ConfigError(f"{name}: band_half_width_deg must be in (0, 90)")
+        if self.n_columns is not None and self.n_columns < 4:
+            raise ConfigError(f"{name}: n_columns must be at least 4")
+
+    def describe(self, view: View) -> dict[str, FloatArray | None]:
+        """``signal``: the horizon signal (n_columns,) in canonical columns; ``compass``: the
+        compass image (see :func:`compass_image`), or None with ``compass = none``."""
+        geometry = view.geometry
+        if not isinstance(geometry, PanoramaGeometry):
+            raise ConfigError("horizon landmarks: need an unfolded panorama, got a raw image")
+        n = geometry.width if self.n_columns is None else self.n_columns
+        half = np.radians(self.band_half_width_deg)
+        return {
+            "signal": horizon_signal(view.image, geometry, half, n),
+            "compass": compass_image(view) if self.compass == "visual" else None,
+        }
+
+    def aligned_sectors(
+        self, current: dict[str, FloatArray | None], goal: dict[str, FloatArray | None]
+    ) -> tuple[Sectors, Sectors, float | None]:
+        """Sectors of the current view and of the goal view in the current robot frame, and the
+        compass's heading change (None with ``compass = none``)."""
+        rotation = None
+        if self.compass == "visual":
+            rotation = compass_rotation(current["compass"], goal["compass"])
+        goal_sectors = horizon_sectors(goal["signal"], self.threshold)
+        return (
+            horizon_sectors(current["signal"], self.threshold),
+            goal_sectors.turned(rotation or 0.0),
+            rotation,
+        )

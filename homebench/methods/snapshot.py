@@ -1,0 +1,116 @@
+"""The snapshot model of Cartwright and Collett (1983, J. Comp. Physiol. 151, 521-543).
+
+Model: the goal view (the snapshot) and the current view are horizons of dark sectors
+(landmarks) and bright sectors (gaps between them). Every snapshot sector is paired with the
+current sector of the same kind whose bearing is closest to its own. Each pair contributes two
+unit vectors at the current place: a **tangential** one, perpendicular to the current sector's
+bearing, pointing the way that turns that bearing towards the snapshot bearing (moving to the
+right of a sector turns it to the left, and vice versa), and a **radial** one along the current
+sector's bearing, towards the sector when it looks smaller than in the snapshot (approach to
+enlarge it) and away from it when it looks larger. The home vector is their (weighted) sum.
+
+Here bearings are in the current robot frame: the snapshot's sectors are turned by the visual
+compass's heading change (the bee's compass; see
+:class:`homebench.methods.horizon_landmarks.LandmarkViews`), with the same segmentation as ALV
+(:mod:`homebench.methods.horizon_landmarks`). A pair whose bearings (sizes) agree exactly adds no
+tangential (radial) vector.
+
+No direction without evidence: no pair of sectors (a flat horizon) gives
+:meth:`HomingEstimate.none`; a zero sum (identical views) gives ``angle=None`` with the
+compass's rotation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.errors import ConfigError
+from homebench.geometry import angle_diff
+from homebench.methods.base import HomingEstimate, ImageKind
+from homebench.methods.horizon_landmarks import LandmarkViews, Sectors, vector_direction
+from homebench.methods.params import documented, param
+from homebench.methods.registry import register
+
+FloatArray = NDArray[np.float64]
+
+#: Bearing difference (radians) below which a pair counts as aligned (rounding of the compass
+#: turn), so identical views give no tangential vectors.
+BEARING_TOLERANCE = 1e-9
+
+
+def pair_sectors(snapshot: Sectors, current: Sectors) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Indices (snapshot_index, current_index), shape (p,) each: every snapshot sector with the
+    current sector of the same kind nearest in bearing (the first of ties); snapshot sectors
+    with no current sector of their kind are left out."""
+    gap = np.abs(angle_diff(snapshot.centres[:, None], current.centres[None, :]))
+    gap[snapshot.dark[:, None] != current.dark[None, :]] = np.inf
+    paired = np.isfinite(gap).any(axis=1)
+    snap = np.flatnonzero(paired)
+    if snap.size == 0:
+        return snap, np.zeros(0, dtype=np.intp)
+    return snap, np.argmin(gap[snap], axis=1).astype(np.intp)
+
+
+def snapshot_vectors(snapshot: Sectors, current: Sectors) -> tuple[FloatArray, FloatArray, int]:
+    """Sums (2,) of the tangential and of the radial unit vectors of all sector pairs, in the
+    current robot frame (x = heading), and the number of pairs."""
+    snap, now = pair_sectors(snapshot, current)
+    bearing = current.centres[now]
+    mismatch = angle_diff(snapshot.centres[snap], bearing)
+    turn = np.where(np.abs(mismatch) > BEARING_TOLERANCE, np.sign(mismatch), 0.0)  # +1: turn ccw
+    grow = np.sign(snapshot.widths[snap] - current.widths[now])  # +1: sector must look larger
+    tangential = turn * np.stack([np.sin(bearing), -np.cos(bearing)])  # bearing - turn * 90 deg
+    radial = grow * np.stack([np.cos(bearing), np.sin(bearing)])
+    return tangential.sum(axis=1), radial.sum(axis=1), int(snap.size)
+
+
+@register
+@documented
+@dataclass(frozen=True)
+class SnapshotModel(LandmarkViews):
+    """Snapshot model (Cartwright and Collett 1983): summed tangential and radial unit vectors of
+    paired horizon sectors."""
+
+    name: ClassVar[str] = "snapshot"
+    image_kind: ClassVar[ImageKind] = "unfolded"
+
+    tangential_weight: float = param(
+        1.0,
+        "Weight of the summed tangential (bearing) unit vectors in the home vector.",
+        reading="unit vectors of both kinds summed alike, as the model is usually stated; the "
+        "paper's own relative weighting could not be consulted, and later robot versions weigh "
+        "the two kinds differently, which these weights allow",
+    )
+    radial_weight: float = param(
+        1.0,
+        "Weight of the summed radial (apparent size) unit vectors in the home vector.",
+        reading="see tangential_weight",
+    )
+
+    def __post_init__(self) -> None:
+        self.check_landmark_params()
+        if self.tangential_weight < 0 or self.radial_weight < 0:
+            raise ConfigError("snapshot: the weights must not be negative")
+        if self.tangential_weight + self.radial_weight == 0:
+            raise ConfigError("snapshot: at least one weight must be positive")
+
+    def home(
+        self, current: dict[str, FloatArray | None], goal: dict[str, FloatArray | None]
+    ) -> HomingEstimate:
+        """Home direction: the angle of the weighted sum of the pairs' unit vectors."""
+        now, snapshot, rotation = self.aligned_sectors(current, goal)
+        tangential, radial, pairs = snapshot_vectors(snapshot, now)
+        if pairs == 0:
+            return HomingEstimate.none(reason="no sector pairs")
+        vector = self.tangential_weight * tangential + self.radial_weight * radial
+        return HomingEstimate(
+            angle=vector_direction(vector),
+            rotation=rotation,
+            n_landmarks=pairs,
+            score=float(np.hypot(*vector)),
+            diagnostics={"tangential": tangential.tolist(), "radial": radial.tolist()},
+        )
