@@ -79,6 +79,14 @@ def world_to_robot(direction: ArrayLike, heading: ArrayLike) -> FloatArray:
     return wrap_angle(np.asarray(direction) - np.asarray(heading))
 
 
+def world_to_robot_xy(vector: ArrayLike, heading: float) -> FloatArray:
+    """A world-frame vector (..., 2) in the frame of a robot with ``heading`` (x ahead, y
+    left): the vector turned by ``-heading``."""
+    v = np.asarray(vector, dtype=np.float64)
+    c, s = np.cos(heading), np.sin(heading)
+    return np.stack([c * v[..., 0] + s * v[..., 1], -s * v[..., 0] + c * v[..., 1]], axis=-1)
+
+
 def world_direction(from_xy: ArrayLike, to_xy: ArrayLike) -> FloatArray:
     """World direction from points ``from_xy`` to ``to_xy`` (shapes (..., 2)), in [-pi, pi]."""
     d = np.asarray(to_xy, dtype=np.float64) - np.asarray(from_xy, dtype=np.float64)

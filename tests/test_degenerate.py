@@ -20,7 +20,22 @@ from homebench.methods import registry
 from homebench.methods.base import HomingEstimate, View
 
 SPEC = WorldSpec(grid={"shape": [3, 3]})
-BUILT_IN = ["warping", "min-warping", "sift", "sift-unfolded", "klt-sector"]
+#: Methods that give home directions (the visual compass gives rotations only).
+HOMING = [
+    "warping",
+    "min-warping",
+    "sift",
+    "sift-unfolded",
+    "klt-sector",
+    "mfdid",
+    "did",
+    "alv",
+    "snapshot",
+    "warping-2d",
+    "fourier-warping",
+    "block-matching",
+]
+BUILT_IN = [*HOMING, "visual-compass"]
 
 
 def _view(kind: str, image: np.ndarray) -> View:
@@ -68,13 +83,13 @@ def test_all_methods_at_a_corner_goal_fill_the_tables(tmp_path: Path) -> None:
         "databases": {"room": {"world": SPEC.model_dump(mode="json")}},
         "conditions": ["room-room"],
         "goals": [[0, 0], [2, 2]],
-        "methods": [{"method": name} for name in BUILT_IN],
+        "methods": [{"method": name} for name in HOMING],
     }
     result = run_config(tmp_path, config)
     assert result.exit_code == 0, result.output
     tables = tmp_path / "run" / "tables"
     pairs = pd.read_csv(tables / "pairs.csv")
-    assert len(pairs) == len(BUILT_IN) * 2 * 8
+    assert len(pairs) == len(HOMING) * 2 * 8
     answered = pairs["estimate_rad"].notna()
     assert np.isfinite(pairs.loc[answered, "ae_rad"]).all()
     assert pairs.loc[~answered, "ae_rad"].isna().all()  # no estimate: no AE, counted below
@@ -141,3 +156,12 @@ def test_the_table_check_catches_a_nan(tmp_path: Path) -> None:
     pairs.assign(truth_rad=[0.4, float("nan")]).to_csv(tmp_path / "pairs.csv", index=False)
     with pytest.raises(AssertionError, match="truth_rad"):
         _assert_empty_only_where_nothing_was_measured(tmp_path)
+
+
+def test_every_built_in_method_is_checked_here() -> None:
+    builtins = {
+        name
+        for name, cls in registry.available().items()
+        if cls.__module__.startswith("homebench.")
+    }
+    assert builtins == set(BUILT_IN)

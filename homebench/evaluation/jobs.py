@@ -27,7 +27,7 @@ from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask
 from homebench.evaluation.routes import grid_route
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import read_json_record, write_text_atomic
-from homebench.geometry import home_direction
+from homebench.geometry import home_direction, world_to_robot_xy
 
 RESULT_FORMAT = 4  # 2: the swept world seed; 3: rows carry an "error"; 4: the swept style
 
@@ -114,26 +114,55 @@ def _features(task: ImageTask, run_dir: Path, job: HomeJob) -> StoredFeatures:
     return load_features(task.feature_path(run_dir, job.method), task.feature_key(job.method))
 
 
-class _RouteViews:
-    """Features of the grid views between goal and current, for methods that track along a
-    route (``uses_route``). Route views come from the current database (the robot's world) at
-    its stored headings; each is described once per job."""
+class _GridViews:
+    """Features of more grid views than the pair's two, described once per job, from the
+    current database (the robot's world) at its stored headings: the views along the route
+    from the goal for methods that track (``uses_route``, their ``route_step``), the grid
+    neighbours of the current view for methods that sample around it (``uses_neighbours``,
+    their ``neighbour_step``)."""
 
     def __init__(self, job: HomeJob, method: Any):
         self.job, self.method = job, method
         self.source = job.currents[0].source
-        self.step = float(getattr(method, "route_step", 0.0))
-        self.cache: dict[tuple[int, int], Any] = {}
+        self.grid = self.source.grid
+        self.cache: dict[tuple[int, int, float], Any] = {}
 
-    def features(self, task: ImageTask) -> list[Any]:
-        kind = self.job.method.image_kind
-        route = grid_route(
-            self.source.grid, (self.job.goal.i, self.job.goal.j), (task.i, task.j), self.step
-        )
-        for node in route:
-            if node not in self.cache:
-                self.cache[node] = self.method.describe(load_view(self.source, *node, kind))
-        return [self.cache[node] for node in route]
+    def _describe(self, i: int, j: int, rotation: float = 0.0) -> Any:
+        if (i, j, rotation) not in self.cache:
+            view = load_view(self.source, i, j, self.job.method.image_kind, rotation)
+            self.cache[(i, j, rotation)] = self.method.describe(view)
+        return self.cache[(i, j, rotation)]
+
+    def extra(self, task: ImageTask, heading: float) -> dict[str, list[Any]]:
+        """The keyword arguments of ``home`` beyond the two views (none for most methods)."""
+        found: dict[str, list[Any]] = {}
+        if getattr(self.method, "uses_route", False):
+            found["route"] = self.route(task)
+        if getattr(self.method, "uses_neighbours", False):
+            found["neighbours"] = self.neighbours(task, heading)
+        return found
+
+    def route(self, task: ImageTask) -> list[Any]:
+        """Features of the views between the goal and ``task`` (both excluded), goal first."""
+        step = float(getattr(self.method, "route_step", 0.0))
+        goal = (self.job.goal.i, self.job.goal.j)
+        route = grid_route(self.grid, goal, (task.i, task.j), step)
+        return [self._describe(*node) for node in route]
+
+    def neighbours(self, task: ImageTask, heading: float) -> list[tuple[np.ndarray, Any]]:
+        """(offset, features) of the views ``neighbour_step`` grid units from ``task`` along
+        each grid axis, those inside the grid: the offset (2,) in metres in the current robot
+        frame (``heading``: the current view's, radians), the view turned by the task's
+        rotation like the current one."""
+        step = int(getattr(self.method, "neighbour_step", 1))
+        here = self.grid.position(task.i, task.j)
+        found = []
+        for di, dj in ((step, 0), (-step, 0), (0, step), (0, -step)):
+            i, j = task.i + di, task.j + dj
+            if self.grid.contains(i, j):
+                offset = world_to_robot_xy(self.grid.position(i, j) - here, heading)
+                found.append((offset, self._describe(i, j, task.rotation)))
+        return found
 
 
 def _home(job: HomeJob, run_dir: Path) -> None:
@@ -141,7 +170,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     goal = _features(job.goal, run_dir, job)
     current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
-    routes = _RouteViews(job, method) if getattr(method, "uses_route", False) else None
+    views = _GridViews(job, method)
     rows = []
     for task in job.currents:
         heading = current_db.heading(task.i, task.j) + task.rotation
@@ -156,9 +185,9 @@ def _home(job: HomeJob, run_dir: Path) -> None:
         }
         try:
             current = _features(task, run_dir, job)
-            route = {"route": routes.features(task)} if routes is not None else {}
+            extra = views.extra(task, heading)
             start = time.perf_counter()
-            estimate = method.home(current.features, goal.features, **route)
+            estimate = method.home(current.features, goal.features, **extra)
             home_ms = 1000.0 * (time.perf_counter() - start)
         except Exception as error:  # one failed pair; the job's other pairs go on
             row["error"] = describe_error(error)
@@ -171,7 +200,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
                 "ae": _none_if_nan(angular_errors(estimate_world, current_xy, goal_xy)),
                 "rotation_estimate": estimate.rotation,
                 "n_landmarks": int(estimate.n_landmarks),
-                "route_views": len(route.get("route", ())),
+                "route_views": len(extra.get("route", ())),
                 "score": estimate.score,
                 "home_ms": home_ms,
                 "describe_ms": current.describe_ms,

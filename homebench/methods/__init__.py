@@ -1,3 +1,16 @@
 """Homing methods: one module per method; importing this package registers the built-ins."""
 
-from homebench.methods import klt_sector, min_warping, sift, warping  # noqa: F401  (registers the built-ins)
+from homebench.methods import (  # noqa: F401  (importing registers the built-ins)
+    alv,
+    block_matching,
+    did,
+    fourier_warping,
+    klt_sector,
+    mfdid,
+    min_warping,
+    sift,
+    snapshot,
+    visual_compass,
+    warping,
+    warping_2d,
+)
