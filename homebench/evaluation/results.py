@@ -43,7 +43,7 @@ from homebench.evaluation.statistics import (
     mean_intervals,
 )
 from homebench.fileio import atomic_write, write_text_atomic
-from homebench.geometry import Grid
+from homebench.geometry import Grid, wrap_angle
 from homebench.hashing import derived_seed
 
 PLAN_FILE = "plan.json"
@@ -121,6 +121,7 @@ def load_pairs(run_dir: Path) -> PairTable:
         for name, value in sorted(record["params"].items()):
             frame[f"param.{name}"] = json.dumps(value) if isinstance(value, list | dict) else value
         frame["grid"] = json.dumps(record["grid"])
+        frame["goal_heading"] = float(record["goal_heading"])
         frames.append(frame)
     if not frames:
         return PairTable(pd.DataFrame(), tuple(missing))
@@ -128,12 +129,23 @@ def load_pairs(run_dir: Path) -> PairTable:
     pairs["seed"] = pairs["seed"].astype("Int64")
     pairs["style"] = pairs["style"].astype("string")
     pairs["ae_deg"] = np.degrees(pairs["ae"].astype(float))
+    pairs = with_rotation_errors(pairs)
     order = ["style", "seed", "condition", "method", "goal_i", "goal_j", "current_i", "current_j"]
     pairs = pairs.sort_values(order, kind="stable").reset_index(drop=True)
     leading = LEADING
     return PairTable(
         pairs[leading + [c for c in pairs.columns if c not in leading]], tuple(missing)
     )
+
+
+def with_rotation_errors(pairs: pd.DataFrame) -> pd.DataFrame:
+    """``pairs`` with ``rotation_truth`` (the true heading change from the goal's view to the
+    current one, radians, ccw: the current view's heading minus the goal's) and
+    ``rotation_error`` (|wrapped difference| of ``rotation_estimate`` and the truth, radians;
+    NaN where the method reports no rotation)."""
+    truth = wrap_angle(pairs["heading"].astype(float) - pairs["goal_heading"].astype(float))
+    error = np.abs(wrap_angle(pairs["rotation_estimate"].astype(float) - truth))
+    return pairs.assign(rotation_truth=truth, rotation_error=error)
 
 
 def _grid_of(group: pd.DataFrame) -> Grid:
@@ -288,8 +300,10 @@ def summary_table(
 
     Columns: the factors, ``pairs``, ``n_goals``, then each metric with its bounds
     (``_lo``, ``_hi``): ``no_estimate_share``, ``mean_ae_deg`` (pairs with an estimate),
-    ``median_ae_deg`` (no bounds), ``ahc`` (missing estimates as configured, by default left
-    out as in the paper), ``ahc_missing90`` (a missing estimate counts as 90 deg), ``rr``
+    ``median_ae_deg`` (no bounds), ``rotation_error_deg`` (mean over the pairs with a
+    rotation estimate; NaN for methods that report none), ``ahc`` (missing estimates as
+    configured, by default left out as in the paper), ``ahc_missing90`` (a missing estimate
+    counts as 90 deg), ``rr``
     (mean over the goals whose field covers the grid), ``catchment`` if configured; times.
     """
     rows = []
@@ -311,6 +325,7 @@ def summary_table(
             **_bounds("no_estimate_share", mean_interval(np.isnan(ae), resampler)),
             **_bounds("mean_ae_deg", mean_interval(ae, resampler).transformed(np.degrees)),
             "median_ae_deg": ae_summary(ae)["median_deg"],
+            **_bounds("rotation_error_deg", _rotation_interval(group, resampler)),
             **_bounds("ahc", ahc_interval(ae, resampler, metrics.ahc.missing)),
             **_bounds("ahc_missing90", ahc_interval(ae, resampler, "orthogonal")),
             **_bounds("rr", mean_interval(per_goal["rr"], by_goal)),
@@ -321,6 +336,13 @@ def summary_table(
             row |= _bounds("catchment", mean_interval(per_goal["catchment"], by_goal))
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _rotation_interval(group: pd.DataFrame, resampler: GoalResampler) -> Interval:
+    """Mean rotation error in degrees over the pairs with a rotation estimate, with bounds."""
+    return mean_interval(group["rotation_error"].to_numpy(dtype=float), resampler).transformed(
+        np.degrees
+    )
 
 
 @dataclass(frozen=True)
@@ -375,8 +397,18 @@ def with_failures(summary: pd.DataFrame, pairs: pd.DataFrame, by: list[str]) -> 
 
 #: Columns of the pair table that are angles in radians (:data:`~homebench.evaluation.jobs.
 #: ROW_COLUMNS`); the written table names each ``<name>_rad`` and adds ``<name>_deg``.
-ANGLE_COLUMNS = ("rotation", "heading", "estimate", "estimate_world", "truth", "ae",
-                 "rotation_estimate")  # fmt: skip
+ANGLE_COLUMNS = (
+    "rotation",
+    "heading",
+    "goal_heading",
+    "estimate",
+    "estimate_world",
+    "truth",
+    "ae",
+    "rotation_estimate",
+    "rotation_truth",
+    "rotation_error",
+)
 
 
 def pairs_with_units(pairs: pd.DataFrame) -> pd.DataFrame:

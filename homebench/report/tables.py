@@ -245,6 +245,7 @@ SUMMARY_COLUMNS = {
     "no_estimate_share": ("no estimate [%]", FIXED1, 100.0),
     "mean_ae_deg": ("mean AE [deg]", FIXED2, 1.0),
     "median_ae_deg": ("median AE [deg]", FIXED2, 1.0),
+    "rotation_error_deg": ("rotation error [deg]", FIXED2, 1.0),
     "ahc": ("AHC", FIXED3, 1.0),
     "ahc_missing90": ("AHC (no estimate = 90 deg)", FIXED3, 1.0),
     "rr": ("RR", FIXED3, 1.0),
@@ -252,6 +253,9 @@ SUMMARY_COLUMNS = {
     "describe_ms": ("describe [ms/image]", SIGNIFICANT3, 1.0),
     "home_ms": ("home [ms/pair]", SIGNIFICANT3, 1.0),
 }
+#: Summary columns left out of the view when no method has a value (no method of the run
+#: reports rotations).
+OPTIONAL = ("rotation_error_deg",)
 #: Summary columns marked where a method is significantly best: source column -> (metric of
 #: :func:`~homebench.evaluation.comparisons.comparison_table`, whether lower is better).
 MARKED = {
@@ -347,7 +351,7 @@ def summary_view(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFra
     frame = summary[[*swept(summary), "condition", "method"]].copy()
     digits, bounds = {}, {}
     for source, (header, rule, scale) in SUMMARY_COLUMNS.items():
-        if source in summary.columns:
+        if source in summary.columns and not (source in OPTIONAL and summary[source].isna().all()):
             digits[header] = rule
             ends = _bounded(frame, header, summary, source, scale)
             bounds |= {header: ends} if ends else {}
