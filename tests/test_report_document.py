@@ -282,3 +282,13 @@ def test_a_terminal_gets_a_progress_bar_over_the_figures_unless_told(
     write_report(_fake_run(tmp_path / "run"), ["md"], max_goals=1, progress=progress)
     err = capsys.readouterr().err
     assert ("report figures" in err and "figure/s" in err) == progress
+
+
+def test_trailing_blank_lines_start_no_page_of_their_own() -> None:
+    from homebench.report.pages import PROSE, _text_pages
+
+    lines = [f"line {k}" for k in range(PROSE.lines * PROSE.columns)] + ["", ""]
+    pages = _text_pages("Title", lines)
+    assert len(pages) == 1
+    for fig in pages:
+        plt.close(fig)

@@ -162,6 +162,8 @@ def _text_pages(
         )
         or [""]
     ]
+    while wrapped and not wrapped[-1].strip():
+        wrapped.pop()  # trailing blank lines would start a page of their own
     per_page = layout.lines * layout.columns
     pages = []
     for start in range(0, max(len(wrapped), 1), per_page):
