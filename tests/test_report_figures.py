@@ -470,8 +470,8 @@ def test_route_figures_draw(tmp_path: Path) -> None:
     ]
     styles = method_styles(["klt-sector", "sift"])
     with report_style():
-        trajectories = _save(route_figure(results[:2], styles, "route"), tmp_path / "route.png")
-        errors_fig = route_error_figure(results, styles, "errors")
+        trajectories = _save(route_figure(results[:2], styles), tmp_path / "route.png")
+        errors_fig = route_error_figure(results, styles)
         lines = {line.get_label(): line for line in errors_fig.axes[0].get_lines()}
         errors = _save(errors_fig, tmp_path / "errors.png")
     assert _pixels_of(trajectories, styles["klt-sector"].colour) > 100

@@ -215,8 +215,8 @@ def test_error_figure_and_trajectories_show_the_trials() -> None:
     assert [r.final_error_m for r in results] == pytest.approx([v for v, _ in ERRORS.values()])
     styles = method_styles(["klt-sector"])
     with report_style():
-        errors = route_error_figure(results, styles, "errors")
-        straight = route_figure(results[:3], styles, "straight routes")
+        errors = route_error_figure(results, styles)
+        straight = route_figure(results[:3], styles)
     lines = {line.get_label(): line for line in errors.axes[0].get_lines()}
     visual = np.array(list(ERRORS.values()))[:, 0].reshape(2, 3)
     assert np.allclose(lines["klt-sector"].get_xdata(), [1.0, 3.0])  # the mean per length

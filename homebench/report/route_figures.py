@@ -19,17 +19,21 @@ from numpy.typing import ArrayLike, NDArray
 
 from homebench.geometry import FloatArray
 from homebench.report.style import (
+    DOUBLE_COLUMN,
     FAILED_COLOUR,
     GOAL_COLOUR,
+    MAX_COLUMNS,
     OUTBOUND_COLOUR,
-    PLOT_SIZE,
     MethodStyle,
     legend_right,
     new_figure,
     outer_panel,
     panel_axes,
-    set_title,
 )
+
+#: Inches: height of a row of trajectory panels, and of the error figure.
+ROUTE_ROW_HEIGHT = 3.0
+ERROR_FIGURE_HEIGHT = 3.6
 
 #: Final errors below this are drawn at it on the log axis (metres).
 ERROR_FLOOR_M = 1e-3
@@ -143,12 +147,11 @@ def _equal_scales(fig: Figure, axes: Sequence[Axes]) -> None:
         ax.set_aspect("equal")
 
 
-def route_figure(
-    results: Sequence[RouteResult], styles: dict[str, MethodStyle], title: str
-) -> Figure:
+def route_figure(results: Sequence[RouteResult], styles: dict[str, MethodStyle]) -> Figure:
     """Trajectories of route-homing trials side by side, one panel per result (shared axes,
-    equal scales)."""
-    fig = new_figure()
+    equal scales), double-column wide; the report's caption says what they show."""
+    rows = math.ceil(len(results) / MAX_COLUMNS)
+    fig = new_figure((DOUBLE_COLUMN, ROUTE_ROW_HEIGHT * rows + 0.9))
     axes = panel_axes(fig, len(results))
     for k, (ax, result) in enumerate(zip(axes, results, strict=True)):
         _draw_route(ax, result, styles[result.label])
@@ -166,8 +169,7 @@ def route_figure(
         Line2D([], [], color=FAILED_COLOUR, linestyle="--", marker="x",
                label="odometry baseline (x: its end)"),
     ]  # fmt: skip
-    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), frameon=False)
-    set_title(fig, title)
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, frameon=False)
     _equal_scales(fig, axes)
     return fig
 
@@ -197,15 +199,14 @@ def _planned(result: RouteResult) -> float:
     return result.planned_length_m
 
 
-def route_error_figure(
-    results: Sequence[RouteResult], styles: dict[str, MethodStyle], title: str
-) -> Figure:
+def route_error_figure(results: Sequence[RouteResult], styles: dict[str, MethodStyle]) -> Figure:
     """Final position error against route length, per method, beside the odometry baseline.
 
     Hollow markers: trials; lines through filled markers: the mean over the trials of each
-    planned length. Log error axis, linear length axis from zero.
+    planned length. Log error axis, linear length axis from zero. Double-column wide; the
+    report's caption says what it shows.
     """
-    fig = new_figure(PLOT_SIZE)
+    fig = new_figure((DOUBLE_COLUMN, ERROR_FIGURE_HEIGHT))
     ax = fig.add_subplot()
     odometry = sorted({(_planned(r), r.route_length_m, r.odometry_error_m) for r in results})
     _plot_errors(ax, odometry, "odometry", MethodStyle(FAILED_COLOUR, "x", "--"))
@@ -228,5 +229,4 @@ def route_error_figure(
     ax.set_ylabel(f"final position error [m] (log; below {1000 * ERROR_FLOOR_M:g} mm drawn at it)")
     ax.grid(True, which="both", alpha=0.3)
     legend_right(ax, "mean per length\n(hollow: trials)")
-    set_title(fig, title)
     return fig

@@ -310,10 +310,10 @@ def route_run_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
         f"Final position error against route length: visual homing ({ROUTE_METHOD}) and "
         "odometry homing from the same end pose"
     )
-    yield "final_error", "Final errors", caption, route_error_figure(results, styles, caption)
+    yield "final_error", "Final errors", caption, route_error_figure(results, styles)
     for page in _pages(run.trials):
         name = _page_name(page)
         caption = f"Trajectories, trials {name}" if len(page) > 1 else f"Trajectory, trial {name}"
         stem = "trajectories_" + name.replace(" to ", "_to_")
-        figure = route_figure([trial.result for trial in page], styles, caption)
+        figure = route_figure([trial.result for trial in page], styles)
         yield stem, "Trajectories", caption, figure

@@ -35,12 +35,8 @@ PAGE_SIZE = (11.69, 8.27)
 SINGLE_COLUMN = 3.5
 DOUBLE_COLUMN = 7.2
 MAX_FIGURE_HEIGHT = 9.0
-#: Single-plot figures (inches): half a page, so labels stay readable.
-PLOT_SIZE = (9.0, 5.0)
 #: Resolution of the PNG files (PDF and SVG are vector).
 PNG_DPI = 300
-#: Width of a figure title's character, inches (titles wrap to the figure's width).
-TITLE_CHAR_WIDTH = 0.095
 #: Width of a character of text, as a share of its font size (for wrapping panel titles).
 CHAR_WIDTH_EM = 0.6
 #: Margin around and between the panels of a figure, inches.
@@ -179,12 +175,6 @@ def outer_panel(k: int, n: int, columns: int = MAX_COLUMNS) -> tuple[bool, bool]
     """Whether panel ``k`` of :func:`panel_axes` is in the first column, and has none below."""
     columns = min(n, columns)
     return k % columns == 0, k + columns >= n
-
-
-def set_title(fig: Figure, title: str) -> None:
-    """The figure's title, wrapped to its width."""
-    chars = int(fig.get_figwidth() / TITLE_CHAR_WIDTH)
-    fig.suptitle("\n".join(textwrap.wrap(title, chars)))
 
 
 def wrap_to(text: str, width_in: float, fontsize: float) -> str:
