@@ -53,7 +53,7 @@ def test_threshold_rules():
 
 
 def test_describe_finds_the_four_cylinders_of_the_cross():
-    method = AverageLandmarkVector()
+    method = AverageLandmarkVector(compass="visual")
     features = method.describe(landmark_view(Pose(0.0, 0.0, 0.0)))
     assert features["signal"].shape == (288,) and features["compass"].shape == (48, 288)
     dark = horizon_sectors(features["signal"]).of_kind("dark")

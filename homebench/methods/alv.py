@@ -8,10 +8,11 @@ agent stores; at the current place the home vector is ``ALV(current) - ALV(goal)
 roughly the mean landmark position minus the agent's position, scaled, so the difference points
 from the current place towards the goal.)
 
-Here both vectors are expressed in the current robot frame: the goal's landmark bearings are
-turned by the heading change from the visual compass (the papers' external compass, see
-:class:`homebench.methods.horizon_landmarks.LandmarkViews`); the home direction is the angle of
-the difference. Segmentation (shared with the snapshot model):
+Here both vectors are expressed in the current robot frame. The papers' external compass
+is a grid database's common heading (``compass = none``, the default: the views are taken as
+aligned); ``compass = visual`` turns the goal's landmark bearings by the visual compass's
+heading change instead (see :class:`homebench.methods.horizon_landmarks.LandmarkViews`). The
+home direction is the angle of the difference. Segmentation (shared with the snapshot model):
 :mod:`homebench.methods.horizon_landmarks`.
 
 No direction without evidence: a view with no landmark sector (a flat or one-sided horizon)

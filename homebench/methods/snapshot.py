@@ -9,9 +9,10 @@ right of a sector turns it to the left, and vice versa), and a **radial** one al
 sector's bearing, towards the sector when it looks smaller than in the snapshot (approach to
 enlarge it) and away from it when it looks larger. The home vector is their (weighted) sum.
 
-Here bearings are in the current robot frame: the snapshot's sectors are turned by the visual
-compass's heading change (the bee's compass; see
-:class:`homebench.methods.horizon_landmarks.LandmarkViews`), with the same segmentation as ALV
+Here bearings are in the current robot frame, aligned as the bee's compass aligns them: by a
+grid database's common heading (``compass = none``, the default) or, opt-in, by the visual
+compass's heading change (see :class:`homebench.methods.horizon_landmarks.LandmarkViews`),
+with the same segmentation as ALV
 (:mod:`homebench.methods.horizon_landmarks`). A pair whose bearings (sizes) agree exactly adds no
 tangential (radial) vector.
 
