@@ -480,3 +480,24 @@ def test_route_figures_draw(tmp_path: Path) -> None:
     assert np.allclose(lines["sift"].get_ydata(), [0.05, 0.05])
     assert np.allclose(lines["odometry"].get_ydata(), [0.1, 0.3])
     assert math.isclose(lines["klt-sector"].get_ydata()[0], 0.004)
+
+
+def test_rr_ticks_of_one_swept_world_name_the_goal_only_and_do_not_overlap(tables) -> None:
+    """A style sweep's panel holds one world (its title names it): the goal ticks are "(i, j)",
+    and no two tick labels overlap, on a panel of a third of a double column."""
+    styles = method_styles(LABELS)
+    goals = tables.goals[tables.goals["condition"] == "a-a"].assign(style="outdoor")
+    summary = tables.summary[tables.summary["condition"] == "a-a"]
+    panels = [RRPanel(f"a-a {k}", goals, summary) for k in range(3)]
+    with report_style():
+        fig = rr_figure(panels, styles)
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        labels = fig.axes[0].get_xticklabels()
+        assert [t.get_text() for t in labels[:-1]] == [
+            f"({i}, {j})"
+            for i, j in sorted(set(zip(goals["goal_i"], goals["goal_j"], strict=True)))
+        ]
+        boxes = [t.get_window_extent(renderer) for t in labels]
+        assert not any(a.overlaps(b) for a, b in zip(boxes, boxes[1:], strict=False))
+        plt.close(fig)

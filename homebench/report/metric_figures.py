@@ -14,16 +14,19 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter, LogLocator
 
 from homebench.report.figure_data import Goal, goals_of, pages
 from homebench.report.style import (
+    CHAR_WIDTH_EM,
     DOUBLE_COLUMN,
     SINGLE_COLUMN,
     MethodStyle,
@@ -282,14 +285,17 @@ def rr_figure(panels: Sequence[RRPanel], styles: dict[str, MethodStyle]) -> Figu
         keys = sorted(set(goals_of(panel.goals)))
         if len(keys) <= MAX_RR_BARS:
             _draw_rr_bars(ax, panel.goals, keys, methods, styles)
-            ticks = [g.text for g in keys]
+            one_world = len({(g.style, g.seed) for g in keys}) == 1  # the title names it
+            ticks = [f"({g.i}, {g.j})" if one_world else g.text for g in keys]
         else:
             _draw_rr_boxes(ax, panel.goals, methods, styles)
             keys, ticks = [keys[0]], [f"{len(set(goals_of(panel.goals)))} goals"]
         mean_x = len(keys) + 0.2
         ax.axvline(mean_x - 0.6, color=NEUTRAL, linewidth=0.6, linestyle=":")
         _draw_mean(ax, mean_x, panel.summary, methods, styles)
-        upright = (len(ticks) + 1) * TICK_WIDTH * 2 > width
+        size = FontProperties(size=plt.rcParams["xtick.labelsize"]).get_size_in_points()
+        label_width = CHAR_WIDTH_EM * size / 72.0  # inches per character
+        upright = sum(len(t) + 2 for t in [*ticks, "mean"]) * label_width > width
         ax.set_xticks([*range(len(keys)), mean_x], [*ticks, "mean"],
                       rotation=90 if upright else 0)  # fmt: skip
         ax.set_xlim(-0.6, mean_x + 0.6)
