@@ -51,9 +51,9 @@ from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.params import check_choices, documented, param
 from homebench.methods.registry import register
 from homebench.methods.visual_compass import (
-    COMPASS_MEANING,
     Compass,
     compass_image,
+    compass_param,
     compass_rotation,
 )
 from homebench.methods.warping import is_flat
@@ -146,14 +146,7 @@ class BlockMatching:
         reading="Vardy's code searches as far vertically as horizontally within the image; a "
         "band around the horizon holds a few rows, and horizon blocks move little vertically",
     )
-    compass: Compass = param(
-        "none",
-        COMPASS_MEANING,
-        paper="the papers align the views with an external compass; a grid database captured at "
-        "one heading is that alignment (none). visual stands in the visual compass for turned "
-        "views or sets without a common heading: on the generated rooms it errs by about 4 deg "
-        "at 0.3 m and by tens of degrees beyond 1 m (reports/baselines)",
-    )
+    compass: Compass = compass_param()
 
     def __post_init__(self) -> None:
         check_choices(self)

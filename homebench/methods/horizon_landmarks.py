@@ -30,9 +30,9 @@ from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import View
 from homebench.methods.params import check_choices, param
 from homebench.methods.visual_compass import (
-    COMPASS_MEANING,
     Compass,
     compass_image,
+    compass_param,
     compass_rotation,
 )
 
@@ -112,14 +112,7 @@ class LandmarkViews:
         reading="the papers' scenes are black and white, where any level between the two "
         "separates landmarks from background; a per-image rule for grey-level scenes",
     )
-    compass: Compass = param(
-        "none",
-        COMPASS_MEANING,
-        paper="the papers align the views with an external compass; a grid database captured at "
-        "one heading is that alignment (none). visual stands in the visual compass for turned "
-        "views or sets without a common heading: on the generated rooms it errs by about 4 deg "
-        "at 0.3 m and by tens of degrees beyond 1 m (reports/baselines)",
-    )
+    compass: Compass = compass_param()
 
     def check_landmark_params(self) -> None:
         """ConfigError (naming the method) for a bad choice, band or column count."""
