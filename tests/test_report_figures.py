@@ -501,3 +501,24 @@ def test_rr_ticks_of_one_swept_world_name_the_goal_only_and_do_not_overlap(table
         boxes = [t.get_window_extent(renderer) for t in labels]
         assert not any(a.overlaps(b) for a, b in zip(boxes, boxes[1:], strict=False))
         plt.close(fig)
+
+
+def test_a_legend_of_many_long_labels_stays_inside_the_figure(tables) -> None:
+    """Twelve methods with long labels under three conditions: the legend wraps into as many
+    columns as fit instead of running off the figure, in any width."""
+    labels = [f"{name}-{k}" for k in range(4) for name in ("fourier-warping", "block-matching",
+                                                             "visual-compass")]  # fmt: skip
+    goals = tables.goals[tables.goals["condition"] == "a-a"]
+    summary = tables.summary[tables.summary["condition"] == "a-a"]
+    source = goals[goals["method"] == LABELS[0]]
+    many = pd.concat([source.assign(method=label) for label in labels], ignore_index=True)
+    many_summary = pd.concat(
+        [summary[summary["method"] == LABELS[0]].assign(method=label) for label in labels]
+    )
+    with report_style():
+        fig = rr_figure([RRPanel(f"a-a {k}", many, many_summary) for k in range(3)],
+                        method_styles(labels))  # fmt: skip
+        _texts_inside(fig)
+        legend_texts = [t.get_text() for t in fig.legends[0].get_texts()]
+        assert set(labels) <= set(legend_texts)
+        plt.close(fig)

@@ -182,10 +182,6 @@ def _draw_field(ax: Axes, panel: GoalPanel, style: MethodStyle) -> None:
                linewidths=0.5, zorder=5, clip_on=False)  # fmt: skip
 
 
-def _legend_columns(fig: Figure) -> int:
-    return 2 if fig.get_figwidth() <= SINGLE_COLUMN else 3
-
-
 def field_figure(goals: Sequence[GoalPanels], styles: dict[str, MethodStyle]) -> Figure:
     """Home-vector fields of several methods towards each of ``goals`` (methods side by side,
     a goal's panels below the previous goal's).
@@ -211,7 +207,7 @@ def field_figure(goals: Sequence[GoalPanels], styles: dict[str, MethodStyle]) ->
                label="home vector, RR trial fails"),
         Line2D([], [], marker="x", ls="", color=FAILED_COLOUR, markersize=5, label="no estimate"),
     ]  # fmt: skip
-    legend_below(fig, handles, _legend_columns(fig))
+    legend_below(fig, handles, 3)
     return fig
 
 

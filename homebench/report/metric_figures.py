@@ -14,12 +14,10 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
-from matplotlib.font_manager import FontProperties
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter, LogLocator
@@ -30,6 +28,7 @@ from homebench.report.style import (
     DOUBLE_COLUMN,
     SINGLE_COLUMN,
     MethodStyle,
+    font_points,
     in_order,
     legend_below,
     new_figure,
@@ -65,12 +64,13 @@ class ConditionPanel:
 
 
 def _condition_figure(
-    n: int, columns: int, sharex: bool
+    n: int, columns: int, sharex: bool, wide: bool = False
 ) -> tuple[Figure, list[Axes], list[tuple[bool, bool]]]:
-    """A figure of ``n`` panels, ``columns`` per row; and per panel (first column, bottom)."""
+    """A figure of ``n`` panels, ``columns`` per row; and per panel (first column, bottom).
+    One panel per row is a single column wide unless ``wide`` (panels full of bars)."""
     columns = min(n, columns)
     rows = math.ceil(n / columns)
-    width = SINGLE_COLUMN if columns == 1 else DOUBLE_COLUMN
+    width = SINGLE_COLUMN if columns == 1 and not wide else DOUBLE_COLUMN
     fig = new_figure((width, rows * PANEL_HEIGHT + BOTTOM_MARGIN))
     axes = panel_axes(fig, n, columns, sharex)
     outer = [(k % columns == 0, k + columns >= n) for k in range(n)]
@@ -180,7 +180,7 @@ def ahc_figure(
             ax.set_ylabel("AHC")
     handles = _method_handles(in_order(styles, methods), styles)
     handles.append(Patch(color=NEUTRAL, alpha=0.3, label="95 % CI"))
-    legend_below(fig, handles, min(len(handles), 6))
+    legend_below(fig, handles, 6)
     return fig
 
 
@@ -197,13 +197,17 @@ class RRPanel:
     summary: pd.DataFrame
 
 
-def _rr_columns(panels: Sequence[RRPanel]) -> int:
-    """Panels side by side: as many as keep a row under MAX_BARS_PER_ROW bars."""
-    bars = max(
+def _rr_bars(panels: Sequence[RRPanel]) -> int:
+    """The most bars of a panel (methods x (goals + the mean))."""
+    return max(
         (p.goals["method"].nunique() * (min(_n_goals(p), MAX_RR_BARS) + 1) for p in panels),
         default=1,
     )
-    return max(1, min(CONDITION_COLUMNS, MAX_BARS_PER_ROW // max(bars, 1)))
+
+
+def _rr_columns(panels: Sequence[RRPanel]) -> int:
+    """Panels side by side: as many as keep a row under MAX_BARS_PER_ROW bars."""
+    return max(1, min(CONDITION_COLUMNS, MAX_BARS_PER_ROW // max(_rr_bars(panels), 1)))
 
 
 def _n_goals(panel: RRPanel) -> int:
@@ -276,7 +280,8 @@ def rr_figure(panels: Sequence[RRPanel], styles: dict[str, MethodStyle]) -> Figu
     method's mean RR over the goals with its 95 % CI. With more than MAX_RR_BARS goals, a box
     of the goals' RR per method replaces the bars."""
     columns = _rr_columns(panels)
-    fig, axes, outer = _condition_figure(len(panels), columns, sharex=False)
+    wide = _rr_bars(panels) > MAX_BARS_PER_ROW // CONDITION_COLUMNS
+    fig, axes, outer = _condition_figure(len(panels), columns, sharex=False, wide=wide)
     width = _panel_width(fig, min(len(panels), columns))
     methods_shown: set[str] = set()
     for k, (ax, panel, (first, bottom)) in enumerate(zip(axes, panels, outer, strict=True)):
@@ -293,8 +298,7 @@ def rr_figure(panels: Sequence[RRPanel], styles: dict[str, MethodStyle]) -> Figu
         mean_x = len(keys) + 0.2
         ax.axvline(mean_x - 0.6, color=NEUTRAL, linewidth=0.6, linestyle=":")
         _draw_mean(ax, mean_x, panel.summary, methods, styles)
-        size = FontProperties(size=plt.rcParams["xtick.labelsize"]).get_size_in_points()
-        label_width = CHAR_WIDTH_EM * size / 72.0  # inches per character
+        label_width = CHAR_WIDTH_EM * font_points("xtick.labelsize") / 72.0  # inches a char
         upright = sum(len(t) + 2 for t in [*ticks, "mean"]) * label_width > width
         ax.set_xticks([*range(len(keys)), mean_x], [*ticks, "mean"],
                       rotation=90 if upright else 0)  # fmt: skip
@@ -311,7 +315,7 @@ def rr_figure(panels: Sequence[RRPanel], styles: dict[str, MethodStyle]) -> Figu
         for m in in_order(styles, methods_shown)
     ]
     handles.append(Line2D([], [], color="black", marker="|", linestyle="", label="95 % CI"))
-    legend_below(fig, handles, min(len(handles), 6))
+    legend_below(fig, handles, 6)
     return fig
 
 

@@ -26,6 +26,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.font_manager import FontProperties  # noqa: E402
 
 from homebench.fileio import atomic_write  # noqa: E402
 
@@ -39,6 +40,10 @@ MAX_FIGURE_HEIGHT = 9.0
 PNG_DPI = 300
 #: Width of a character of text, as a share of its font size (for wrapping panel titles).
 CHAR_WIDTH_EM = 0.6
+#: A legend entry's handle and spacing (inches), and the share of a figure's width a legend
+#: may take.
+LEGEND_HANDLE_WIDTH = 0.55
+LEGEND_WIDTH_SHARE = 0.95
 #: Margin around and between the panels of a figure, inches.
 LAYOUT_PAD = 0.08
 #: Most panels in one row of a page.
@@ -189,10 +194,20 @@ def legend_right(ax: Axes, title: str | None = None) -> None:
               frameon=False)  # fmt: skip
 
 
-def legend_below(fig: Figure, handles: list, columns: int) -> None:
-    """One legend for the whole figure, below its panels."""
-    fig.legend(handles=handles, loc="outside lower center", ncols=max(1, columns),
-               frameon=False)  # fmt: skip
+def font_points(key: str) -> float:
+    """The size in points of the rcParams font size ``key`` ("xtick.labelsize", ...)."""
+    return FontProperties(size=plt.rcParams[key]).get_size_in_points()
+
+
+def legend_below(fig: Figure, handles: list, columns: int | None = None) -> None:
+    """One legend for the whole figure, below its panels, in as many columns as fit the
+    figure's width (at most ``columns``): entries as wide as the longest label."""
+    size = font_points("legend.fontsize")
+    longest = max((len(str(h.get_label())) for h in handles), default=1)
+    entry = longest * CHAR_WIDTH_EM * size / 72.0 + LEGEND_HANDLE_WIDTH
+    fit = max(1, int(LEGEND_WIDTH_SHARE * fig.get_figwidth() // entry))
+    fig.legend(handles=handles, loc="outside lower center",
+               ncols=min(fit, columns or len(handles)), frameon=False)  # fmt: skip
 
 
 def save_figure(fig: Figure, stem_path: Path) -> list[Path]:
