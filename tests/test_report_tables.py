@@ -273,7 +273,8 @@ def test_writers_show_units_rounding_and_missing_values(views: dict) -> None:
     csv = to_csv(summary)
     assert csv.splitlines()[0] == (
         "condition,method,n goals,pairs,no estimate [%],no estimate [%] lo,no estimate [%] hi,"
-        "mean AE [deg],mean AE [deg] lo,mean AE [deg] hi,median AE [deg],AHC,AHC lo,AHC hi,"
+        "mean AE [deg],mean AE [deg] lo,mean AE [deg] hi,median AE [deg],"
+        "rotation error [deg],rotation error [deg] lo,rotation error [deg] hi,AHC,AHC lo,AHC hi,"
         "AHC (no estimate = 90 deg),AHC (no estimate = 90 deg) lo,"
         "AHC (no estimate = 90 deg) hi,RR,RR lo,RR hi,catchment,catchment lo,catchment hi,"
         "describe [ms/image],home [ms/pair]"

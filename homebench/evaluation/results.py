@@ -325,7 +325,7 @@ def summary_table(
             **_bounds("no_estimate_share", mean_interval(np.isnan(ae), resampler)),
             **_bounds("mean_ae_deg", mean_interval(ae, resampler).transformed(np.degrees)),
             "median_ae_deg": ae_summary(ae)["median_deg"],
-            **_bounds("rotation_error_deg", _rotation_interval(group, resampler)),
+            **_rotation_bounds(group, resampler),
             **_bounds("ahc", ahc_interval(ae, resampler, metrics.ahc.missing)),
             **_bounds("ahc_missing90", ahc_interval(ae, resampler, "orthogonal")),
             **_bounds("rr", mean_interval(per_goal["rr"], by_goal)),
@@ -338,11 +338,14 @@ def summary_table(
     return pd.DataFrame(rows)
 
 
-def _rotation_interval(group: pd.DataFrame, resampler: GoalResampler) -> Interval:
-    """Mean rotation error in degrees over the pairs with a rotation estimate, with bounds."""
-    return mean_interval(group["rotation_error"].to_numpy(dtype=float), resampler).transformed(
-        np.degrees
-    )
+def _rotation_bounds(group: pd.DataFrame, resampler: GoalResampler) -> dict[str, float]:
+    """``rotation_error_deg`` with its bounds: the mean over the pairs with a rotation
+    estimate, in degrees; nothing for a pair table without rotation errors (not built by
+    :func:`load_pairs`)."""
+    if "rotation_error" not in group:
+        return {}
+    errors = group["rotation_error"].to_numpy(dtype=float)
+    return _bounds("rotation_error_deg", mean_interval(errors, resampler).transformed(np.degrees))
 
 
 @dataclass(frozen=True)
