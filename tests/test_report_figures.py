@@ -522,3 +522,19 @@ def test_a_legend_of_many_long_labels_stays_inside_the_figure(tables) -> None:
         legend_texts = [t.get_text() for t in fig.legends[0].get_texts()]
         assert set(labels) <= set(legend_texts)
         plt.close(fig)
+
+
+def test_trajectory_panel_titles_do_not_overlap() -> None:
+    """Four trials side by side in a double column: each panel's title stays within its own
+    horizontal extent plus the gap to the next panel."""
+    results = [
+        _route("klt-sector", length, 0.004, 0.1 * length) for length in (2.0, 4.0, 6.0, 10.0)
+    ]
+    with report_style():
+        fig = route_figure(results, method_styles({r.label for r in results}))
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        titles = [ax.title.get_window_extent(renderer) for ax in fig.axes if ax.get_title()]
+        assert len(titles) == len(results)
+        assert not any(a.overlaps(b) for a, b in zip(titles, titles[1:], strict=False))
+        plt.close(fig)

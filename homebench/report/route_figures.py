@@ -119,9 +119,10 @@ def _draw_route(ax: Axes, result: RouteResult, style: MethodStyle) -> None:
     ax.scatter(*result.odometry[-1, :2], marker="x", s=40, color=FAILED_COLOUR, zorder=5)
     ax.scatter(*home, marker="*", s=160, color=GOAL_COLOUR, edgecolor="white", zorder=6)
     ax.grid(True, alpha=0.3)
-    ax.set_title(
-        f"{result.trial or result.label}\nroute {result.route_length_m:.2f} m, error "
-        f"{100 * result.final_error_m:.1f} cm (odometry {100 * result.odometry_error_m:.1f} cm)"
+    ax.set_title(  # three short lines: four panels share a double column
+        f"{result.trial or result.label}\n{result.route_length_m:.2f} m route: "
+        f"{100 * result.final_error_m:.1f} cm\nodometry: {100 * result.odometry_error_m:.1f} cm",
+        fontsize="small",
     )
 
 
