@@ -19,7 +19,7 @@ from homebench.data.manifest import Manifest
 from homebench.errors import DataError, MissingImagesError
 from homebench.fileio import check_image, read_grey
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
-from homebench.methods.base import ImageKind, View
+from homebench.views import ImageKind, View
 
 
 class GridDatabase:

@@ -29,7 +29,7 @@ from homebench.data.synth.spec import WorldSpec
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
 from homebench.image_header import MAX_IMAGE_PIXELS
-from homebench.methods.base import ImageKind
+from homebench.views import ImageKind
 from homebench.yamlio import load_model, parse_model
 
 SCHEMA_VERSION = 1

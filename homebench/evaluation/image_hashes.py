@@ -18,7 +18,7 @@ from homebench.data.generate import data_dir
 from homebench.evaluation.sources import Source, open_source
 from homebench.fileio import sha256_file, write_text_atomic
 from homebench.hashing import stable_hash
-from homebench.methods.base import ImageKind
+from homebench.views import ImageKind
 
 Position = tuple[int, int]
 

@@ -33,7 +33,7 @@ from homebench.evaluation.sources import Source
 from homebench.geometry import Grid
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
-from homebench.methods.base import ImageKind
+from homebench.views import ImageKind
 
 #: Images per describe job: large enough to amortise process hand-over, small enough to balance.
 DESCRIBE_BATCH = 8

@@ -26,7 +26,7 @@ from homebench.hashing import stable_hash
 from homebench.imaging.projection import unfold
 from homebench.imaging.rotation import rotate_view
 from homebench.methods import registry
-from homebench.methods.base import ImageKind, View
+from homebench.views import ImageKind, View
 
 
 @dataclass(frozen=True)

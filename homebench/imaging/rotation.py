@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
-from homebench.methods.base import View
+from homebench.views import View
 
 
 def rotate_view(view: View, rotation: float) -> View:

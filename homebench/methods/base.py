@@ -1,6 +1,8 @@
 """What a homing method is: views in, features out, two features in, an estimate out.
 
-Methods are pure: they know nothing of files, configs or jobs. A method is a frozen dataclass
+Methods are pure: they know nothing of files, configs or jobs. :class:`View` and
+:data:`ImageKind` live in :mod:`homebench.views` (the data and imaging layers hold views too)
+and are re-exported here, the interface a method author reads. A method is a frozen dataclass
 whose fields are its parameters (with the papers' defaults), registered under a name with
 :func:`homebench.methods.registry.register`.
 """
@@ -8,26 +10,11 @@ whose fields are its parameters (with the papers' defaults), registered under a 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
-import numpy as np
-from numpy.typing import NDArray
+from homebench.views import ImageKind, View
 
-from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
-
-ImageKind = Literal["raw", "unfolded"]
-
-
-@dataclass(frozen=True)
-class View:
-    """One grey-level image (shape (height, width), uint8) with the camera model that made it."""
-
-    image: NDArray[np.uint8]
-    geometry: PanoramaGeometry | CatadioptricGeometry
-
-    @property
-    def kind(self) -> ImageKind:
-        return "raw" if isinstance(self.geometry, CatadioptricGeometry) else "unfolded"
+__all__ = ["HomingEstimate", "HomingMethod", "ImageKind", "View"]
 
 
 @dataclass(frozen=True)

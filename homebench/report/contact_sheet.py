@@ -27,7 +27,7 @@ from homebench.data.database import GridDatabase  # noqa: E402
 from homebench.fileio import atomic_write  # noqa: E402
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry  # noqa: E402
 from homebench.imaging.projection import unfold  # noqa: E402
-from homebench.methods.base import View  # noqa: E402
+from homebench.views import View  # noqa: E402
 
 #: Panorama width shown for raw-only databases (unfolded on the fly).
 SHEET_PANORAMA_WIDTH = 288
