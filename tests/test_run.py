@@ -277,3 +277,18 @@ def test_a_torn_job_file_is_never_read_back(tmp_path: Path, arena_manifest: Path
     assert code == 0, err
     assert "1 job(s) computed, 3 reused" in out
     _assert_same_tables(reference / "run", torn / "run")
+
+
+@pytest.mark.parametrize("n_jobs", [1, 2, 3, 4, 7])
+def test_shards_split_any_plan_into_parts_of_equal_size(n_jobs: int) -> None:
+    """Every key in exactly one of N shards, sizes differing by at most one, whatever the keys
+    (a split by hash could give one shard every job of a small plan)."""
+    from homebench.evaluation.executors import Execution
+
+    keys = [f"{k:02x}" + "0" * 14 for k in range(n_jobs)]  # every key's hash is even
+    for count in (2, 3):
+        parts = [Execution(shard=(i, count)).shard_keys(reversed(keys)) for i in (1, 2, 3)[:count]]
+        assert set().union(*parts) == set(keys)
+        assert sum(len(p) for p in parts) == n_jobs
+        assert max(map(len, parts)) - min(map(len, parts)) <= 1
+    assert Execution().shard_keys(keys) == set(keys)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, Protocol
@@ -62,9 +62,15 @@ class Execution:
         """Local workers (or local Dask workers): ``jobs``, all cores for -1."""
         return (os.cpu_count() or 1) if self.jobs == -1 else self.jobs
 
-    def in_shard(self, key: str) -> bool:
-        """Whether the job with ``key`` belongs to this shard (a pure function of the key)."""
-        return self.shard is None or int(key[:8], 16) % self.shard[1] == self.shard[0] - 1
+    def shard_keys(self, keys: Iterable[str]) -> set[str]:
+        """The keys of the plan's jobs ``keys`` that belong to this shard (all without one):
+        every N-th of the sorted keys, from the I-th, so N shards of one plan split it into
+        parts whose sizes differ by at most one, whatever the keys."""
+        ordered = sorted(set(keys))
+        if self.shard is None:
+            return set(ordered)
+        index, count = self.shard
+        return set(ordered[index - 1 :: count])
 
 
 class Executor(Protocol):

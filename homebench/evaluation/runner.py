@@ -162,7 +162,8 @@ def _run_jobs(
 ) -> RunOutcome:
     """Run the shard's home jobs that have no result (nor a failure, unless retrying), after
     the describe jobs of the images they need; record what failed."""
-    mine = [job for job in plan.home if execution.in_shard(job.key)]
+    mine_keys = execution.shard_keys(job.key for job in plan.home)
+    mine = [job for job in plan.home if job.key in mine_keys]
     if force:
         _forget(plan, mine, run_dir)
     todo, earlier, reused = [], [], 0
@@ -197,6 +198,6 @@ def _run_jobs(
     pending = sum(
         not (job.result_path(run_dir).exists() or failure_path(run_dir, job.key).exists())
         for job in plan.home
-        if not execution.in_shard(job.key)
+        if job.key not in mine_keys
     )
     return RunOutcome(run_dir, plan, computed, reused, tuple(failures), pending)
