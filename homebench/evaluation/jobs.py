@@ -86,6 +86,16 @@ def run_home_job(job: HomeJob, run_dir: Path) -> JobOutcome:
     return run_safely("home", job.key, _home, job, run_dir)
 
 
+def _has_features(path: Path, key: str) -> bool:
+    """Whether ``path`` holds usable features of ``key`` (a missing, corrupt or stale file,
+    made from other inputs, does not: its image is described again)."""
+    try:
+        load_features(path, key)
+    except DataError:
+        return False
+    return True
+
+
 def _describe(job: DescribeJob, run_dir: Path) -> None:
     """Describe every image whose feature file is missing or unusable; then DataError naming
     the images that failed, if any."""
@@ -93,11 +103,8 @@ def _describe(job: DescribeJob, run_dir: Path) -> None:
     failed = []
     for task in job.images:
         path, key = task.feature_path(run_dir, job.method), task.feature_key(job.method)
-        try:
-            load_features(path, key)
+        if _has_features(path, key):
             continue
-        except DataError:
-            pass  # missing, corrupt or of other inputs: describe it (again)
         try:
             view = load_view(task.source, task.i, task.j, job.method.image_kind, task.rotation)
             start = time.perf_counter()

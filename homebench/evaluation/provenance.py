@@ -10,6 +10,7 @@ hash, the command line and the options that overrode the config.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import platform
@@ -59,13 +60,10 @@ def git_state(folder: Path) -> dict[str, Any] | None:
 
 def cpu_model() -> str:
     """The CPU's model name (Linux: /proc/cpuinfo), else what the platform says."""
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.partition(":")[2].strip()
-    except OSError:
-        pass
+    with contextlib.suppress(OSError), open("/proc/cpuinfo", encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("model name"):
+                return line.partition(":")[2].strip()
     return platform.processor() or platform.machine()
 
 
