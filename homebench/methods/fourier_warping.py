@@ -42,7 +42,7 @@ from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.params import documented, param, same_as
 from homebench.methods.registry import register
-from homebench.methods.warping import FLAT_TOLERANCE, Warping, best_hypothesis
+from homebench.methods.warping import FLAT_TOLERANCE, Warping, best_hypothesis, rho_grid
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -128,7 +128,7 @@ class FourierWarping:
     @property
     def rho(self) -> tuple[float, ...]:
         """Searched rho values: 0 .. rho_max in n_rho steps."""
-        return tuple(np.linspace(0.0, self.rho_max, self.n_rho).tolist())
+        return rho_grid(self.rho_max, self.n_rho)
 
     def describe(self, view: View) -> ComplexArray:
         """Fourier coefficients c_0 .. c_{K-1} of the horizon signal (grey levels): (K,)."""

@@ -143,7 +143,7 @@ class Warping:
     @property
     def rho(self) -> tuple[float, ...]:
         """Searched rho values: 0 .. rho_max in n_rho steps."""
-        return tuple(np.linspace(0.0, self.rho_max, self.n_rho).tolist())
+        return rho_grid(self.rho_max, self.n_rho)
 
     def describe(self, view: View) -> FloatArray:
         """The 1-D horizon signal (n_columns,), canonical column order, normalised (grey levels
@@ -178,6 +178,11 @@ class Warping:
         if is_flat(current) or is_flat(goal):
             return HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
         return best_hypothesis(self.costs(current, goal), self.rho, self.n_columns)
+
+
+def rho_grid(rho_max: float, n_rho: int) -> tuple[float, ...]:
+    """The rho values a warping search tries: ``n_rho`` evenly from 0 to ``rho_max``."""
+    return tuple(np.linspace(0.0, rho_max, n_rho).tolist())
 
 
 def best_hypothesis(cost: FloatArray, rho: tuple[float, ...], n_landmarks: int) -> HomingEstimate:

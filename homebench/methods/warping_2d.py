@@ -48,7 +48,7 @@ from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.min_warping import MinWarping
 from homebench.methods.params import documented, param, same_as
 from homebench.methods.registry import register
-from homebench.methods.warping import best_hypothesis, is_flat, warp_tables
+from homebench.methods.warping import best_hypothesis, is_flat, rho_grid, warp_tables
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
@@ -124,7 +124,7 @@ class Warping2D:
     @property
     def rho(self) -> tuple[float, ...]:
         """Searched rho values: 0 .. rho_max in n_rho steps."""
-        return tuple(np.linspace(0.0, self.rho_max, self.n_rho).tolist())
+        return rho_grid(self.rho_max, self.n_rho)
 
     @property
     def row_step(self) -> float:
