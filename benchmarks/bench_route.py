@@ -23,11 +23,11 @@ import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 from homebench.data.synth.spec import UnfoldedImageSpec, WorldSpec  # noqa: E402
-from homebench.evaluation.lifecycle import select_targets  # noqa: E402
-from homebench.evaluation.robot import DriftModel, MotionLimits, Robot  # noqa: E402
-from homebench.evaluation.route_outbound import Camera, drive_outbound  # noqa: E402
-from homebench.evaluation.route_scene import world_scene  # noqa: E402
-from homebench.evaluation.route_visual import VisualHomingParams, home_visually  # noqa: E402
+from homebench.experiments.robot import DriftModel, MotionLimits, Robot  # noqa: E402
+from homebench.experiments.route.lifecycle import select_targets  # noqa: E402
+from homebench.experiments.route.outbound import drive_outbound  # noqa: E402
+from homebench.experiments.route.visual import VisualHomingParams, home_visually  # noqa: E402
+from homebench.experiments.scene import Camera, world_scene  # noqa: E402
 from homebench.geometry import Pose  # noqa: E402
 from homebench.methods.klt_tracking import KltTracker, Tracks  # noqa: E402
 

@@ -200,8 +200,8 @@ def _run_routes(
     no_report: bool,
 ) -> None:
     """``homebench run`` of a route-homing config (``kind: route``)."""
-    from homebench.evaluation.route_homing import run_route_experiment
-    from homebench.route_config import load_route_config
+    from homebench.experiments.route.config import load_route_config
+    from homebench.experiments.route.experiment import run_route_experiment
 
     config = load_route_config(config_file, overrides)
     outcome = run_route_experiment(

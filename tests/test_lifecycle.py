@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from homebench.evaluation.lifecycle import (
+from homebench.experiments.route.lifecycle import (
     FeatureLog,
     TargetSelectionError,
     select_targets,

@@ -20,11 +20,11 @@ from click.testing import CliRunner
 
 from homebench.cli import main
 from homebench.errors import DataError
-from homebench.evaluation.route_homing import RouteJob, RouteTrial, plan_trials
+from homebench.experiments.route.config import RouteConfig
+from homebench.experiments.route.experiment import RouteJob, RouteTrial, plan_trials
 from homebench.report.document import write_report
 from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
 from homebench.report.style import method_styles, report_style
-from homebench.route_config import RouteConfig
 
 STARTED = "2024-05-06T07:08:09+00:00"
 HOME = (1.7, 1.8)

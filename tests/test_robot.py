@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from homebench.evaluation.robot import (
+from homebench.experiments.robot import (
     DriftModel,
     Motion,
     MotionLimits,

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from synthetic_panorama import GEOMETRY, render
 
-from homebench.evaluation.route_visual import (
+from homebench.experiments.route.visual import (
     VisualHomingParams,
     anchor,
     leg_motion,

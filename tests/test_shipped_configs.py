@@ -9,7 +9,7 @@ import yaml
 from conftest import run_config
 
 from homebench.config import config_kind, load_config
-from homebench.route_config import load_route_config
+from homebench.experiments.route.config import load_route_config
 
 CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
 

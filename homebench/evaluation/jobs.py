@@ -22,9 +22,9 @@ import numpy as np
 
 from homebench.errors import DataError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
+from homebench.evaluation.grid_routes import grid_route
 from homebench.evaluation.metrics import angular_errors
 from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask
-from homebench.evaluation.routes import grid_route
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import home_direction, world_to_robot_xy

@@ -2,7 +2,7 @@
 
 A route run's folder holds ``config.resolved.json`` (a :class:`RouteConfig`), which says what
 trials there should be, and ``routes/<trial>.json`` per finished trial
-(:mod:`homebench.evaluation.route_homing`). A trial file that is missing, corrupt or of
+(:mod:`homebench.experiments.route.experiment`). A trial file that is missing, corrupt or of
 another configuration (its key differs) becomes a warning line, as a grid run's job files do.
 """
 
@@ -19,13 +19,13 @@ from matplotlib.figure import Figure
 from pydantic import BaseModel, ValidationError
 
 from homebench.errors import DataError
-from homebench.evaluation.route_homing import RouteJob, RouteTrial, plan_trials
+from homebench.experiments.route.config import RouteConfig, RouteSpec
+from homebench.experiments.route.experiment import RouteJob, RouteTrial, plan_trials
 from homebench.report.pages import environment_lines, run_lines
 from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
 from homebench.report.run_data import CONFIG_FILE, RunInfo, validation_error
 from homebench.report.style import MAX_COLUMNS, method_styles
 from homebench.report.tables import FIXED0, FIXED1, FIXED2, Digits, TableView, make_view
-from homebench.route_config import RouteConfig, RouteSpec
 
 #: The method that homes visually in a route run (its label in tables and figures).
 ROUTE_METHOD = "klt-sector"

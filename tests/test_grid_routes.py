@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from homebench.evaluation.routes import grid_route
+from homebench.evaluation.grid_routes import grid_route
 from homebench.geometry import Grid
 
 GRID = Grid((10, 17), 0.3)

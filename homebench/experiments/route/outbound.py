@@ -4,24 +4,21 @@ The robot is driven along the route as the paper's was (by an operator who sees 
 the steering uses the true pose, the true motion carries the motion noise, and the odometry
 integrates the commands. A panorama is taken at the start and after every step; corners are
 detected at home and tracked frame to frame, new ones detected when too few survive, and every
-frame's features go into a :class:`~homebench.evaluation.lifecycle.FeatureLog` (Fig. 3).
+frame's features go into a :class:`~homebench.experiments.route.lifecycle.FeatureLog` (Fig. 3).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from homebench.evaluation.lifecycle import FeatureLog
-from homebench.evaluation.robot import MotionLimits, Robot, drive_to
+from homebench.experiments.robot import MotionLimits, Robot, drive_to
+from homebench.experiments.route.lifecycle import FeatureLog
+from homebench.experiments.scene import Camera
 from homebench.geometry import FloatArray, Pose
 from homebench.methods.klt_tracking import KltTracker, Tracks
-
-#: Takes the panorama (height, width) uint8 at the robot's true pose for frame number k.
-Camera = Callable[[Pose, int], NDArray[np.uint8]]
 
 #: A waypoint counts as reached within this fraction of a step (a driver's precision).
 WAYPOINT_TOLERANCE = 0.2

@@ -34,8 +34,8 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 from homebench.config import ALIAS, UnfoldConfig
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
-from homebench.evaluation.robot import DriftModel, MotionLimits
-from homebench.evaluation.route_visual import VisualHomingParams
+from homebench.experiments.robot import DriftModel, MotionLimits
+from homebench.experiments.route.visual import VisualHomingParams
 from homebench.methods.klt_tracking import KltTracker
 from homebench.yamlio import load_model
 

@@ -16,14 +16,14 @@ import yaml
 
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
-from homebench.evaluation.route_homing import (
+from homebench.experiments.route.config import RouteConfig, load_route_config
+from homebench.experiments.route.experiment import (
     TABLE_PATH,
     plan_trials,
     run_route_experiment,
     run_trial,
 )
-from homebench.evaluation.route_outbound import path_length, route_prefix
-from homebench.route_config import RouteConfig, load_route_config
+from homebench.experiments.route.outbound import path_length, route_prefix
 
 SMALL_WORLD = {
     "seed": 0,

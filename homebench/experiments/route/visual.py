@@ -1,7 +1,7 @@
 """Visual route homing (seed 000, 2.1 and 2.3): leg by leg with the sector law.
 
 For each leg, from the previous target frame ``c`` (the route's end at first) to the next target
-``t`` (see :func:`~homebench.evaluation.lifecycle.select_targets`), the features are those alive
+``t`` (see :func:`~.lifecycle.select_targets`), the features are those alive
 through frames ``t .. c`` of the outbound log: their positions in frame ``t`` are the goal
 bearings. At the start of a leg the robot is near the place of frame ``c`` but not at its
 heading; the **pose correction** estimates the heading change ``phi`` since frame ``c`` as the
@@ -28,9 +28,10 @@ from numpy.typing import NDArray
 from pydantic import BaseModel, ConfigDict, Field
 
 from homebench.data.synth.world import PoseError
-from homebench.evaluation.lifecycle import IntArray, shared_ids
-from homebench.evaluation.robot import MotionLimits, Robot, steer, turn_to
-from homebench.evaluation.route_outbound import Camera, Outbound
+from homebench.experiments.robot import MotionLimits, Robot, steer, turn_to
+from homebench.experiments.route.lifecycle import IntArray, shared_ids
+from homebench.experiments.route.outbound import Outbound
+from homebench.experiments.scene import Camera
 from homebench.geometry import PanoramaGeometry, Pose, wrap_angle
 from homebench.methods.klt_tracking import KltTracker, Tracks
 from homebench.methods.sector_law import (

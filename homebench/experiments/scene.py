@@ -1,4 +1,4 @@
-"""Where a route-homing robot drives: a generated world or a grid database.
+"""Where a robot drives (route and closed-loop experiments): a generated world or a grid database.
 
 In a generated world the robot sees the panorama rendered at its true pose. On a grid database
 it sees the image of the grid position nearest to it, turned to its heading by whole columns
@@ -21,16 +21,17 @@ from homebench.data import catalog
 from homebench.data.database import GridDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
-from homebench.evaluation.route_outbound import Camera
 from homebench.evaluation.sources import database_view
 from homebench.geometry import PanoramaGeometry, Pose
 from homebench.hashing import derived_seed
 from homebench.imaging.rotation import rotate_view
-from homebench.route_config import RouteConfig
+
+#: A robot's camera: the panorama (H, W) or (H, W, 3), uint8, seen at a pose as frame k.
+Camera = Callable[[Pose, int], NDArray[np.uint8]]
 
 
 @dataclass(frozen=True)
-class RouteScene:
+class Scene:
     """How the robot sees (unfolded panoramas of ``geometry``) and where it may go.
 
     ``render(pose, noise_seed)`` gives the panorama at ``pose``; ``check_pose`` raises PoseError
@@ -52,9 +53,9 @@ class RouteScene:
         return take
 
 
-def world_scene(spec: WorldSpec) -> RouteScene:
+def world_scene(spec: WorldSpec) -> Scene:
     world = build_world(spec)
-    return RouteScene(
+    return Scene(
         world.unfolded_geometry,
         lambda pose, noise_seed: world.render(pose, noise_seed)["unfolded"],
         world.check_pose,
@@ -69,7 +70,7 @@ def _database(locator: str, path: Path | None) -> GridDatabase:
     return database
 
 
-def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> RouteScene:
+def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> Scene:
     """Nearest grid images of a database (a known name or manifest path), turned to the pose."""
     database = _database(locator, path)
     grid = database.grid
@@ -94,11 +95,14 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> RouteSc
         columns = round(turn / geometry.column_step)
         return rotate_view(view, columns * geometry.column_step).image if columns else view.image
 
-    return RouteScene(geometry, render, check_pose, grid.origin)
+    return Scene(geometry, render, check_pose, grid.origin)
 
 
-def route_scene(config: RouteConfig) -> RouteScene:
-    """The scene of a route config: its grid ``database`` if it names one, else its world."""
-    if config.database is not None:
-        return grid_scene(config.database, config.database_path, config.unfold)
-    return world_scene(config.world)
+def open_scene(
+    world: WorldSpec, database: str | None, database_path: Path | None, unfold: UnfoldConfig
+) -> Scene:
+    """The scene of an experiment config: its grid ``database`` if it names one (a known name
+    or manifest path, unfolded with ``unfold``), else its generated ``world``."""
+    if database is not None:
+        return grid_scene(database, database_path, unfold)
+    return world_scene(world)

@@ -1,11 +1,10 @@
 """The route-homing experiment of seed 000: trials, their result files, the routes table.
 
 A trial = one route driven for one length. It drives the outbound route in the generated world
-(:mod:`~homebench.evaluation.route_outbound`), chooses the intermediate positions from the
-feature life-cycles (:mod:`~homebench.evaluation.lifecycle`), homes leg by leg with the sector
-law (:mod:`~homebench.evaluation.route_visual`) and, from the same end pose and odometry, homes
-by dead reckoning (the odometry baseline). Everything is seeded from the config's seed and the
-trial's name, so a rerun gives identical numbers.
+(:mod:`~.outbound`), chooses the intermediate positions from the feature life-cycles
+(:mod:`~.lifecycle`), homes leg by leg with the sector law (:mod:`~.visual`) and, from the
+same end pose and odometry, homes by dead reckoning (the odometry baseline). Everything is
+seeded from the config's seed and the trial's name, so a rerun gives identical numbers.
 
 Files in the run folder: ``routes/<trial>.json`` per trial (written atomically; a rerun skips
 trials whose file holds the same key), ``tables/routes.csv``, and the run metadata. A trial's
@@ -31,21 +30,21 @@ import pandas as pd
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
 from homebench.evaluation.jobs import JobOutcome, run_safely
-from homebench.evaluation.lifecycle import TargetSelectionError, select_targets
-from homebench.evaluation.robot import Robot, dead_reckon
-from homebench.evaluation.route_outbound import (
+from homebench.evaluation.runner import run_parallel, write_run_metadata
+from homebench.experiments.robot import Robot, dead_reckon
+from homebench.experiments.route.config import RouteConfig, RouteSpec
+from homebench.experiments.route.lifecycle import TargetSelectionError, select_targets
+from homebench.experiments.route.outbound import (
     as_array,
     drive_outbound,
     path_length,
     route_prefix,
 )
-from homebench.evaluation.route_scene import RouteScene, route_scene
-from homebench.evaluation.route_visual import home_visually
-from homebench.evaluation.runner import run_parallel, write_run_metadata
+from homebench.experiments.route.visual import home_visually
+from homebench.experiments.scene import Scene, open_scene
 from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
-from homebench.route_config import RouteConfig, RouteSpec
 
 #: Bump when a trial's result changes for an unchanged config (invalidates finished trials).
 ROUTE_FORMAT = 1
@@ -127,7 +126,7 @@ class RouteJob:
         return run_dir / ROUTES_DIR / f"{self.trial.name}.json"
 
 
-def check_routes(config: RouteConfig, scene: RouteScene, config_path: Path) -> None:
+def check_routes(config: RouteConfig, scene: Scene, config_path: Path) -> None:
     """ConfigError naming the route unless the scene can show every point along it."""
     for k, route in enumerate(config.routes):
         points = np.asarray(route.in_world(scene.grid_origin).waypoints, dtype=np.float64)
@@ -283,3 +282,8 @@ def run_route_experiment(
     write_text_atomic(table_path, table.to_csv(index=False))
     failures = tuple(outcome for outcome in outcomes if outcome.error)
     return RouteRunOutcome(run_dir, table, table_path, len(todo), len(plan) - len(todo), failures)
+
+
+def route_scene(config: RouteConfig) -> Scene:
+    """The scene of a route config: its grid ``database`` if it names one, else its world."""
+    return open_scene(config.world, config.database, config.database_path, config.unfold)
