@@ -14,6 +14,8 @@ Example (see ``configs/quickstart.yaml``)::
     methods:
       - {method: warping}
       - {method: warping, label: warping-coarse, params: {n_rho: 10}}
+      - {method: alv, label: alv-vc, compass: visual}   # current view turned back by the
+                                                        # visual compass (or truth / none)
 
 Checks that need the databases (a goal outside the grid) happen when the run is planned.
 """
@@ -33,6 +35,7 @@ from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
+from homebench.methods.visual_compass import CompassMode
 from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
 
@@ -94,12 +97,15 @@ class CurrentRange(_Strict):
 
 
 class MethodEntry(_Strict):
-    """A method with parameters; ``grid`` sweeps parameters (every combination of its lists)."""
+    """A method with parameters; ``grid`` sweeps parameters (every combination of its lists);
+    ``compass`` aligns the current view with the goal's before any method sees it (engine
+    level: :data:`homebench.methods.visual_compass.CompassMode`)."""
 
     method: str
     label: str | None = None
     params: dict[str, Any] = Field(default_factory=dict)
     grid: dict[str, list[Any]] = Field(default_factory=dict)
+    compass: CompassMode = "none"
 
     @field_validator("grid")
     @classmethod
@@ -292,9 +298,11 @@ class RunConfig(_Strict):
 
 
 def config_kind(path: Path, overrides: Sequence[str] = ()) -> str:
-    """The experiment kind a config file declares: "route" (``kind: route``) or "grid"."""
+    """The experiment kind a config file declares: "route" (``kind: route``), "closed-loop"
+    (``kind: closed-loop``) or "grid"."""
     data = load_yaml_mapping(path, what="config", overrides=overrides)
-    return "route" if data.get("kind") == "route" else "grid"
+    kind = data.get("kind")
+    return kind if kind in ("route", "closed-loop") else "grid"
 
 
 def load_config(path: Path, overrides: Sequence[str] = ()) -> RunConfig:
@@ -304,6 +312,11 @@ def load_config(path: Path, overrides: Sequence[str] = ()) -> RunConfig:
     for k, entry in enumerate(config.methods):
         for _, params in entry.expand():
             try:
+                if "compass" in params and "compass" not in registry.parameters(entry.method):
+                    raise ConfigError(
+                        f"params: compass is a key of the method entry, not a parameter of "
+                        f"{entry.method}: write compass: {params['compass']} beside method:"
+                    )
                 registry.create(entry.method, **params)
             except HomebenchError as error:
                 raise ConfigError(f"{path}: methods.{k}: {error}") from None

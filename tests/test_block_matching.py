@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 import pytest
+from compass_views import home_with_visual_compass
 from synthetic_panorama import home_errors, render, rolled
 
 from homebench.errors import ConfigError
@@ -29,7 +30,7 @@ from homebench.methods.block_matching import (
 
 TOLERANCE = math.radians(10.0)
 GOAL = Pose(0.2, -0.3, 0.4)
-ALIGNED = BlockMatching(compass="none")
+ALIGNED = BlockMatching()
 
 
 def test_displacements_put_no_displacement_first_and_small_ones_before_large():
@@ -92,13 +93,12 @@ def test_home_direction_along_x_and_y_with_aligned_views(dx, dy):
 
 @pytest.mark.parametrize("rotation_deg", [45.0, -93.75, 180.0])
 def test_a_turned_current_view_keeps_the_world_direction_with_the_visual_compass(rotation_deg):
-    """Turns by whole band columns (3 image columns): the compass finds them exactly, so the
-    aligned band and the world-frame direction are unchanged."""
-    method = BlockMatching(compass="visual")
+    """Turns by whole image columns: the engine's compass finds them exactly, so the view
+    turned back and the world-frame direction are unchanged."""
     pose = Pose(GOAL.x + 0.3, GOAL.y - 0.3, 1.0)
-    current, goal = render(pose), method.describe(render(GOAL))
-    straight = method.home(method.describe(current), goal)
-    turned = method.home(method.describe(rolled(current, -round(rotation_deg / 1.25))), goal)
+    current, goal = render(pose), render(GOAL)
+    straight = home_with_visual_compass(ALIGNED, current, goal)
+    turned = home_with_visual_compass(ALIGNED, rolled(current, -round(rotation_deg / 1.25)), goal)
     rotation = math.radians(rotation_deg)
     assert angular_error(turned.rotation, straight.rotation + rotation) < 1e-9
     assert angular_error(turned.angle + rotation, straight.angle) < 1e-6
@@ -106,45 +106,41 @@ def test_a_turned_current_view_keeps_the_world_direction_with_the_visual_compass
 
 
 def test_with_the_compass_a_pure_rotation_gives_no_flow_and_no_direction():
-    method = BlockMatching(compass="visual")
     goal_view = render(GOAL)
-    estimate = method.home(method.describe(rolled(goal_view, 30)), method.describe(goal_view))
+    estimate = home_with_visual_compass(ALIGNED, rolled(goal_view, 30), goal_view)
     assert angular_error(estimate.rotation, -math.radians(37.5)) < 1e-9
     assert estimate.angle is None and estimate.n_landmarks == 0
 
 
 def test_identical_views_give_no_direction():
-    for method in (ALIGNED, BlockMatching(compass="visual")):
-        features = method.describe(render(GOAL))
-        estimate = method.home(features, features)
-        assert estimate.angle is None and estimate.n_landmarks == 0
-        assert estimate.rotation == (None if method.compass == "none" else 0.0)
+    features = ALIGNED.describe(render(GOAL))
+    estimate = ALIGNED.home(features, features)
+    assert estimate.angle is None and estimate.n_landmarks == 0 and estimate.rotation is None
+    estimate = home_with_visual_compass(ALIGNED, render(GOAL), render(GOAL))
+    assert estimate.angle is None and estimate.n_landmarks == 0 and estimate.rotation == 0.0
 
 
 def test_a_textureless_view_gives_no_estimate():
     textured = ALIGNED.describe(render(GOAL))
-    flat = {"band": np.full_like(textured["band"], 90.0), "compass": None}
+    flat = np.full_like(textured, 90.0)
     for current, goal in [(flat, textured), (textured, flat), (flat, flat)]:
         estimate = ALIGNED.home(current, goal)
         assert estimate.angle is None and estimate.rotation is None
 
 
-def test_describe_gives_a_square_pixel_band_and_the_compass_image_when_asked():
-    features = BlockMatching(compass="visual").describe(render(GOAL))
-    assert features["band"].shape == (13, 192)
-    assert features["compass"] is not None and features["compass"].shape == (48, 288)
-    assert ALIGNED.describe(render(GOAL))["compass"] is None
+def test_describe_gives_a_square_pixel_band():
+    assert ALIGNED.describe(render(GOAL)).shape == (13, 192)
 
 
 def test_registered_with_the_defaults():
     method = registry.create("block-matching")
     assert isinstance(method, BlockMatching)
-    assert (method.block_size, method.search_radius, method.compass) == (7, 30, "none")
+    assert (method.block_size, method.search_radius) == (7, 30)
 
 
 @pytest.mark.parametrize(
     "params",
-    [{"block_size": 6}, {"search_radius": 96}, {"block_step": 0}, {"compass": "magnetic"}],
+    [{"block_size": 6}, {"search_radius": 96}, {"block_step": 0}],
 )
 def test_bad_parameters_are_config_errors(params):
     with pytest.raises(ConfigError):

@@ -20,7 +20,7 @@ def test_rotation_truth_and_errors_on_rotated_current_views(
         tmp_path,
         arena_manifest,
         rotate_current={"enabled": True, "seed": 3},
-        methods=[{"method": "visual-compass"}, {"method": "alv", "params": {"compass": "none"}}],
+        methods=[{"method": "visual-compass"}, {"method": "alv"}],
     )
     result = run_config(tmp_path, config)
     assert result.exit_code == 0, result.output

@@ -6,6 +6,12 @@ the error text, so the run finishes the other jobs and reports it. Within a job,
 one pair that fails does not sink the others: a describe job describes the rest and then fails
 naming the images; a home job records the pair as a row with an ``error`` and no estimate.
 Feature files (:mod:`~homebench.evaluation.features_io`) are checked before they are reused.
+
+A method entry's ``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is applied
+here, for any method: with ``visual`` or ``truth`` the current view (and the grid neighbours of
+methods that read them) is turned back by the compass's heading change before the method
+describes it, and the answer is turned into the current robot frame; ``rotation_estimate`` is
+then the compass's turn plus the method's own rotation, and ``ae`` the error of that answer.
 """
 
 from __future__ import annotations
@@ -13,7 +19,7 @@ from __future__ import annotations
 import json
 import time
 import traceback
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -24,10 +30,16 @@ from homebench.errors import DataError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
 from homebench.evaluation.grid_routes import grid_route
 from homebench.evaluation.metrics import angular_errors
-from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask
+from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask, neighbour_positions
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import home_direction, world_to_robot_xy
+from homebench.methods.base import HomingEstimate
+from homebench.methods.visual_compass import (
+    compass_turn,
+    in_current_frame,
+    whole_columns,
+)
 
 RESULT_FORMAT = 4  # 2: the swept world seed; 3: rows carry an "error"; 4: the swept style
 
@@ -163,13 +175,75 @@ class _GridViews:
         rotation like the current one."""
         step = int(getattr(self.method, "neighbour_step", 1))
         here = self.grid.position(task.i, task.j)
-        found = []
-        for di, dj in ((step, 0), (-step, 0), (0, step), (0, -step)):
-            i, j = task.i + di, task.j + dj
-            if self.grid.contains(i, j):
-                offset = world_to_robot_xy(self.grid.position(i, j) - here, heading)
-                found.append((offset, self._describe(i, j, task.rotation)))
-        return found
+        return [
+            (
+                world_to_robot_xy(self.grid.position(i, j) - here, heading),
+                self._describe(i, j, task.rotation),
+            )
+            for i, j in neighbour_positions(self.grid, task.i, task.j, step)
+        ]
+
+
+class _Compass:
+    """The entry's compass step for the pairs of one job: the heading change (radians, whole
+    columns of the current database's unfolded views) to turn each current view back by, or
+    None with ``compass = none``. ``visual``: the visual compass on the two unfolded views
+    (the goal's read once per job); ``truth``: the current view's heading minus the goal's."""
+
+    def __init__(self, job: HomeJob, goal_heading: float):
+        self.job, self.goal_heading = job, goal_heading
+        self.goal_view: Any = None
+
+    def turn(self, task: ImageTask, heading: float) -> float | None:
+        mode = self.job.method.compass
+        if mode == "none":
+            return None
+        if mode == "truth":
+            return whole_columns(heading - self.goal_heading, task.source.columns)
+        goal = self.job.goal
+        if self.goal_view is None:
+            self.goal_view = load_view(goal.source, goal.i, goal.j, "unfolded")
+        current = load_view(task.source, task.i, task.j, "unfolded", task.rotation)
+        return compass_turn(current, self.goal_view)
+
+
+def _current_features(
+    job: HomeJob, run_dir: Path, method: Any, task: ImageTask, fresh: bool
+) -> tuple[Any, float]:
+    """Features of a current view and their describe time (ms): from its feature file, or,
+    when ``fresh`` (a view turned back by a compass), described now."""
+    if not fresh:
+        stored = _features(task, run_dir, job)
+        return stored.features, stored.describe_ms
+    view = load_view(task.source, task.i, task.j, job.method.image_kind, task.rotation)
+    start = time.perf_counter()
+    features = method.describe(view)
+    return features, 1000.0 * (time.perf_counter() - start)
+
+
+def _estimate(
+    job: HomeJob,
+    run_dir: Path,
+    task: ImageTask,
+    heading: float,
+    parts: tuple[Any, StoredFeatures, _GridViews, _Compass],
+) -> tuple[HomingEstimate, dict[str, Any]]:
+    """One pair's estimate in the current robot frame and its timings and counts (row fields);
+    with a compass, the method sees the current view (and its neighbours) turned back."""
+    method, goal, views, compass = parts
+    turn = compass.turn(task, heading)
+    seen = task if turn is None else replace(task, rotation=task.rotation - turn)
+    features, describe_ms = _current_features(job, run_dir, method, seen, turn is not None)
+    extra = views.extra(seen, heading - (turn or 0.0))
+    start = time.perf_counter()
+    estimate = method.home(features, goal.features, **extra)
+    home_ms = 1000.0 * (time.perf_counter() - start)
+    return estimate if turn is None else in_current_frame(estimate, turn), {
+        "route_views": len(extra.get("route", ())),
+        "home_ms": home_ms,
+        "describe_ms": describe_ms,
+        "goal_describe_ms": goal.describe_ms,
+    }
 
 
 def _home(job: HomeJob, run_dir: Path) -> None:
@@ -177,7 +251,8 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     goal = _features(job.goal, run_dir, job)
     current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
-    views = _GridViews(job, method)
+    goal_heading = goal_db.heading(job.goal.i, job.goal.j)
+    parts = (method, goal, _GridViews(job, method), _Compass(job, goal_heading))
     rows = []
     for task in job.currents:
         heading = current_db.heading(task.i, task.j) + task.rotation
@@ -191,27 +266,19 @@ def _home(job: HomeJob, run_dir: Path) -> None:
             "distance_m": float(np.hypot(*(goal_xy - current_xy))),
         }
         try:
-            current = _features(task, run_dir, job)
-            extra = views.extra(task, heading)
-            start = time.perf_counter()
-            estimate = method.home(current.features, goal.features, **extra)
-            home_ms = 1000.0 * (time.perf_counter() - start)
+            estimate, measured = _estimate(job, run_dir, task, heading, parts)
         except Exception as error:  # one failed pair; the job's other pairs go on
             row["error"] = describe_error(error)
         else:
             angle = np.nan if estimate.angle is None else float(estimate.angle)
             estimate_world = heading + angle
-            row |= {
+            row |= measured | {
                 "estimate": None if estimate.angle is None else angle,
                 "estimate_world": None if estimate.angle is None else float(estimate_world),
                 "ae": _none_if_nan(angular_errors(estimate_world, current_xy, goal_xy)),
                 "rotation_estimate": estimate.rotation,
                 "n_landmarks": int(estimate.n_landmarks),
-                "route_views": len(extra.get("route", ())),
                 "score": estimate.score,
-                "home_ms": home_ms,
-                "describe_ms": current.describe_ms,
-                "goal_describe_ms": goal.describe_ms,
             }
         rows.append({column: row.get(column) for column in ROW_COLUMNS})
     record = {
@@ -223,12 +290,13 @@ def _home(job: HomeJob, run_dir: Path) -> None:
         "method": job.method.label,
         "method_name": job.method.method,
         "params": dict(job.method.params),
+        "compass": job.method.compass,
         "code_version": job.method.code,
         "current_database": job.currents[0].source.alias,
         "goal_database": job.goal.source.alias,
         "goal_i": job.goal.i,
         "goal_j": job.goal.j,
-        "goal_heading": goal_db.heading(job.goal.i, job.goal.j),
+        "goal_heading": goal_heading,
         "grid": {
             "shape": list(current_db.grid.shape),
             "spacing": current_db.grid.spacing,

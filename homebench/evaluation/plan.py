@@ -10,7 +10,13 @@ Two kinds of job:
 
 Code versions come from :mod:`~homebench.evaluation.code_version`, image contents from
 :mod:`~homebench.evaluation.image_hashes`: a changed method or image changes the keys of exactly
-the jobs and features it touches.
+the jobs and features it touches. A home job's key also holds the content of every other view
+it reads (its ``context``): the grid neighbours of methods that sample around the current view
+(``uses_neighbours``), the route views of methods that track (``uses_route``), the unfolded
+views the visual compass compares and the headings the true compass turns by. A method entry's
+``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is part of its key; with a
+compass the current views are described inside the home job (turned back per pair), so describe
+jobs hold its goals only.
 
 Jobs carry database *sources* (paths and identities), never image arrays, so they travel cheaply
 to worker processes or a cluster.
@@ -28,12 +34,17 @@ import numpy as np
 from homebench.config import RunConfig, SweptWorld
 from homebench.errors import ConfigError
 from homebench.evaluation.code_version import code_version
+from homebench.evaluation.grid_routes import grid_route
 from homebench.evaluation.image_hashes import image_hashes
-from homebench.evaluation.sources import Source
+from homebench.evaluation.sources import Source, open_source
 from homebench.geometry import Grid
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
 from homebench.views import ImageKind
+
+Position = tuple[int, int]
+#: A current view of a job: grid position and rotation (radians).
+Current = tuple[int, int, float]
 
 #: Images per describe job: large enough to amortise process hand-over, small enough to balance.
 DESCRIBE_BATCH = 8
@@ -41,17 +52,23 @@ DESCRIBE_BATCH = 8
 
 @dataclass(frozen=True)
 class MethodSpec:
-    """One method entry of the config: table label, registered name, the parameters it sets
-    and the method's code version."""
+    """One method entry of the config: table label, registered name, the parameters it sets,
+    the method's code version, and the entry's compass with the compass's code version ("" with
+    ``compass = none``)."""
 
     label: str
     method: str
     params: tuple[tuple[str, Any], ...]
     code: str
+    compass: str = "none"
+    compass_code: str = ""
 
     @property
     def key(self) -> str:
-        return stable_hash({"method": self.method, "params": dict(self.params), "code": self.code})
+        fields = {"method": self.method, "params": dict(self.params), "code": self.code}
+        if self.compass != "none":  # keys without a compass stay those of earlier versions
+            fields["compass"] = [self.compass, self.compass_code]
+        return stable_hash(fields)
 
     @property
     def image_kind(self) -> ImageKind:
@@ -106,19 +123,21 @@ class HomeJob:
     currents: tuple[ImageTask, ...]
     seed: int | None = None  # the swept world seed, None without a sweep
     style: str | None = None  # the swept world style, None without a sweep
+    context: str = ""  # hash of the other views and headings the job reads ("" when none)
 
     @property
     def key(self) -> str:
-        return stable_hash(
-            {
-                "style": self.style,
-                "seed": self.seed,
-                "condition": self.condition,
-                "method": self.method.key,
-                "goal": self.goal.inputs,
-                "currents": [t.inputs for t in self.currents],
-            }
-        )
+        fields = {
+            "style": self.style,
+            "seed": self.seed,
+            "condition": self.condition,
+            "method": self.method.key,
+            "goal": self.goal.inputs,
+            "currents": [t.inputs for t in self.currents],
+        }
+        if self.context:
+            fields["context"] = self.context
+        return stable_hash(fields)
 
     def result_path(self, run_dir: Path) -> Path:
         return run_dir / "jobs" / f"{self.key}.json"
@@ -184,11 +203,47 @@ def rotation_of(config: RunConfig, source: Source, i: int, j: int) -> float:
 def method_specs(config: RunConfig) -> list[MethodSpec]:
     """The method points of a config with their code versions. Parameters are the config's:
     a default is part of the method's source, so its code version covers it."""
-    versions = {name: code_version(registry.get(name)) for _, name, _ in config.method_points()}
-    return [
-        MethodSpec(label, name, tuple(sorted(params.items())), versions[name])
-        for label, name, params in config.method_points()
-    ]
+    names = {name for _, name, _ in config.method_points()} | {COMPASS_METHOD}
+    versions = {name: code_version(registry.get(name)) for name in names}
+    specs = []
+    for entry in config.methods:
+        compass_code = versions[COMPASS_METHOD] if entry.compass != "none" else ""
+        for label, params in entry.expand():
+            method = (label, entry.method, tuple(sorted(params.items())), versions[entry.method])
+            specs.append(MethodSpec(*method, entry.compass, compass_code))
+    return specs
+
+
+#: The registered method whose module holds the engine's compass step (its code version keys
+#: every job with a compass).
+COMPASS_METHOD = "visual-compass"
+
+
+def neighbour_positions(grid: Grid, i: int, j: int, step: int) -> list[tuple[int, int]]:
+    """Grid positions ``step`` units from (i, j) along each grid axis (+i, -i, +j, -j), those
+    inside the grid."""
+    found = [(i + step, j), (i - step, j), (i, j + step), (i, j - step)]
+    return [(a, b) for a, b in found if grid.contains(a, b)]
+
+
+def extra_positions(
+    method: Any, grid: Grid, goal: tuple[int, int], current: tuple[int, int]
+) -> list[tuple[int, int]]:
+    """Grid positions of the views a method reads for one pair beyond its two (from the
+    current database): the route from the goal (``uses_route``, its ``route_step``), then the
+    current view's neighbours (``uses_neighbours``, its ``neighbour_step``)."""
+    found = []
+    if getattr(method, "uses_route", False):
+        found += grid_route(grid, goal, current, float(getattr(method, "route_step", 0.0)))
+    if getattr(method, "uses_neighbours", False):
+        found += neighbour_positions(grid, *current, int(getattr(method, "neighbour_step", 1)))
+    return found
+
+
+def described(job: HomeJob) -> tuple[ImageTask, ...]:
+    """The images of a home job its describe jobs describe: the goal, and the current views
+    unless a compass turns them back per pair inside the home job."""
+    return (job.goal,) if job.method.compass != "none" else (job.goal, *job.currents)
 
 
 def make_plan(
@@ -196,12 +251,35 @@ def make_plan(
 ) -> Plan:
     """All jobs of a run, in a deterministic order."""
     methods = method_specs(config)
+    instances = {method.label: method.create() for method in methods}
     contents: dict[tuple[str, ImageKind], dict[tuple[int, int], str]] = {}
 
-    def task(source: Source, i: int, j: int, kind: ImageKind, rotation: float = 0.0) -> ImageTask:
+    def content(source: Source, kind: ImageKind, i: int, j: int) -> str:
         if (source.identity, kind) not in contents:
             contents[source.identity, kind] = image_hashes(source, kind, source.grid.indices())
-        return ImageTask(source, i, j, rotation, contents[source.identity, kind][i, j])
+        return contents[source.identity, kind][i, j]
+
+    def task(source: Source, i: int, j: int, kind: ImageKind, rotation: float = 0.0) -> ImageTask:
+        return ImageTask(source, i, j, rotation, content(source, kind, i, j))
+
+    def context(
+        method: MethodSpec,
+        current_src: Source,
+        goal_src: Source,
+        goal: Position,
+        currents: list[Current],
+    ) -> str:
+        """Hash of what the job reads beyond its tasks' images ("" when nothing)."""
+        here = [(i, j) for i, j, _ in currents]
+        grid, kind = current_src.grid, method.image_kind
+        extra = {p for c in here for p in extra_positions(instances[method.label], grid, goal, c)}
+        parts: list[Any] = [("view", *p, content(current_src, kind, *p)) for p in sorted(extra)]
+        read = [(goal_src, goal), *((current_src, c) for c in here)]
+        if method.compass == "visual" and kind != "unfolded":
+            parts += [("compass", s.identity, *p, content(s, "unfolded", *p)) for s, p in read]
+        if method.compass == "truth":
+            parts += [("heading", s.identity, *p, open_source(s).heading(*p)) for s, p in read]
+        return stable_hash(parts) if parts else ""
 
     home: list[HomeJob] = []
     for world in config.worlds():
@@ -222,11 +300,12 @@ def make_plan(
                     tasks = tuple(task(current_src, i, j, kind, r) for i, j, r in currents)
                     goal_task = task(goal_src, *goal, kind)
                     style, seed = world
-                    home.append(HomeJob(condition, method, goal_task, tasks, seed, style))
+                    reads = context(method, current_src, goal_src, goal, currents)
+                    home.append(HomeJob(condition, method, goal_task, tasks, seed, style, reads))
     describe = []
     for method in {m.key: m for m in methods}.values():  # equal parameters share features
         needed = sorted(
-            {t for job in home if job.method.key == method.key for t in (job.goal, *job.currents)},
+            {t for job in home if job.method.key == method.key for t in described(job)},
             key=lambda t: t.inputs,
         )
         for start in range(0, len(needed), DESCRIBE_BATCH):

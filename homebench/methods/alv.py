@@ -8,16 +8,14 @@ agent stores; at the current place the home vector is ``ALV(current) - ALV(goal)
 roughly the mean landmark position minus the agent's position, scaled, so the difference points
 from the current place towards the goal.)
 
-Here both vectors are expressed in the current robot frame. The papers' external compass
-is a grid database's common heading (``compass = none``, the default: the views are taken as
-aligned); ``compass = visual`` turns the goal's landmark bearings by the visual compass's
-heading change instead (see :class:`homebench.methods.horizon_landmarks.LandmarkViews`). The
-home direction is the angle of the difference. Segmentation (shared with the snapshot model):
-:mod:`homebench.methods.horizon_landmarks`.
+Here both vectors are expressed in the current robot frame, which the papers' external
+compass aligns with the goal's: a grid database's common heading is that alignment; a config
+entry's ``compass: visual`` (engine level, any method) turns the current view back by the
+visual compass's heading change first. The home direction is the angle of the difference.
+Segmentation (shared with the snapshot model): :mod:`homebench.methods.horizon_landmarks`.
 
 No direction without evidence: a view with no landmark sector (a flat or one-sided horizon)
-gives :meth:`HomingEstimate.none`; equal ALVs (identical views) give ``angle=None`` with the
-compass's rotation.
+gives :meth:`HomingEstimate.none`; equal ALVs (identical views) give ``angle=None``.
 """
 
 from __future__ import annotations
@@ -65,19 +63,17 @@ class AverageLandmarkVector(LandmarkViews):
     def __post_init__(self) -> None:
         self.check_landmark_params()
 
-    def home(
-        self, current: dict[str, FloatArray | None], goal: dict[str, FloatArray | None]
-    ) -> HomingEstimate:
-        """Home direction: the angle of ALV(current) - ALV(goal), current robot frame."""
-        now, then, rotation = self.aligned_sectors(current, goal)
-        now, then = now.of_kind(self.landmarks), then.of_kind(self.landmarks)
+    def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
+        """Home direction: the angle of ALV(current) - ALV(goal), current robot frame; the
+        features are horizon signals (n,)."""
+        now = self.sectors(current).of_kind(self.landmarks)
+        then = self.sectors(goal).of_kind(self.landmarks)
         count = int(now.centres.size + then.centres.size)
         if now.centres.size == 0 or then.centres.size == 0:
             return HomingEstimate.none(n_landmarks=count, reason="no landmarks")
         vector = average_landmark_vector(now) - average_landmark_vector(then)
         return HomingEstimate(
             angle=vector_direction(vector),
-            rotation=rotation,
             n_landmarks=count,
             score=float(np.hypot(*vector)),
             diagnostics={

@@ -24,15 +24,21 @@ rows (panoramas wrap in azimuth); the horizontal displacement of the best match 
 vector at the block's azimuth. Ties go to the smallest displacement (zero first), so an
 unchanged block gives no vector.
 
-Alignment (``compass``): the paper's views are aligned, and so are a grid database's (``none``,
-the default: no rotation is reported); with ``visual`` (opt-in) the current band is
-rolled by the visual compass's heading change (:func:`homebench.methods.visual_compass
-.compass_rotation`, rounded to a band column) and the home direction turned back into the current
-frame.
+Alignment: the paper's views are aligned, and so are a grid database's; a config entry's
+``compass: visual`` (engine level, any method, :data:`homebench.methods.visual_compass
+.CompassMode`) turns a current view back by the visual compass first.
 
 Readings and options (see the parameters): resolution, block size, block spacing and search
 radii; unit vectors (not weighted by the displacement). No flow vector at all gives
 ``angle=None``; a texture-less band gives :meth:`HomingEstimate.none`.
+
+Paper look-up (issue 14): the paper's first page was reached (vdocument.in, "Biologically
+plausible visual homing methods based on optical flow techniques": five flow techniques on
+image collections of three indoor environments; block matching and two simpler variants home
+robustly "despite the simplicity of the matched features", and low-frequency features
+suffice), but not its method section: the block size, spacing and search radii are not in
+reach here. Chosen as Vardy's homing code has them (options ``block_size``, ``block_step``,
+``search_radius``, ``vertical_radius``), to be checked against the paper.
 """
 
 from __future__ import annotations
@@ -45,22 +51,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.errors import ConfigError
-from homebench.geometry import TWO_PI, PanoramaGeometry, wrap_angle
+from homebench.geometry import TWO_PI, PanoramaGeometry
 from homebench.imaging.horizon import horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
-from homebench.methods.params import check_choices, documented, param
+from homebench.methods.params import documented, param
 from homebench.methods.registry import register
-from homebench.methods.visual_compass import (
-    Compass,
-    compass_image,
-    compass_param,
-    compass_rotation,
-)
 from homebench.methods.warping import is_flat
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
-Features = dict[str, FloatArray | None]
 
 
 def displacements(search_radius: int, vertical_radius: int) -> IntArray:
@@ -146,10 +145,8 @@ class BlockMatching:
         reading="Vardy's code searches as far vertically as horizontally within the image; a "
         "band around the horizon holds a few rows, and horizon blocks move little vertically",
     )
-    compass: Compass = compass_param()
 
     def __post_init__(self) -> None:
-        check_choices(self)
         if self.block_size < 1 or self.block_size % 2 == 0:
             raise ConfigError("block-matching: block_size must be odd and positive")
         if self.block_step < 1 or self.vertical_radius < 0:
@@ -162,43 +159,32 @@ class BlockMatching:
         """Rows of the band: a block and the vertical search above and below it."""
         return self.block_size + 2 * self.vertical_radius
 
-    def describe(self, view: View) -> Features:
-        """``band``: (n_rows, n_columns) grey levels centred on the horizon, canonical columns;
-        ``compass``: the visual compass's image, or None with ``compass = none``."""
+    def describe(self, view: View) -> FloatArray:
+        """The band (n_rows, n_columns): grey levels centred on the horizon, canonical
+        columns."""
         if not isinstance(view.geometry, PanoramaGeometry):
             raise ConfigError("block-matching: needs an unfolded panorama, got a raw image")
         half = 0.5 * self.n_rows * TWO_PI / self.n_columns
-        band = horizon_band(view.image, view.geometry, -half, half, self.n_rows, self.n_columns)
-        return {
-            "band": band,
-            "compass": compass_image(view) if self.compass == "visual" else None,
-        }
+        return horizon_band(view.image, view.geometry, -half, half, self.n_rows, self.n_columns)
 
-    def home(self, current: Features, goal: Features) -> HomingEstimate:
-        """Home direction: the direction of the summed flow vectors, turned into the current
-        frame by the compass's heading change."""
-        band_c, band_g = current["band"], goal["band"]
-        if band_c is None or band_g is None or band_c.shape != band_g.shape:
+    def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
+        """Home direction: the direction of the summed flow vectors (current robot frame);
+        the features are bands (n_rows, n_columns)."""
+        if current.shape != goal.shape:
             raise ValueError("block-matching: features need bands of one shape")
-        if is_flat(band_c) or is_flat(band_g):
+        if is_flat(current) or is_flat(goal):
             return HomingEstimate.none(reason="no texture")
-        rotation = None
-        if self.compass == "visual":
-            rotation = compass_rotation(current["compass"], goal["compass"])
-            band_c = np.roll(band_c, round(rotation * self.n_columns / TWO_PI), axis=-1)
         centres = np.arange(0, self.n_columns, self.block_step)
         candidates = displacements(self.search_radius, self.vertical_radius)
-        flow = block_flow(band_c, band_g, self.block_size, centres, candidates)
+        flow = block_flow(current, goal, self.block_size, centres, candidates)
         azimuths = TWO_PI * centres / self.n_columns
         x, y = flow_home_vector(azimuths, flow.astype(np.float64))
         moving = int(np.count_nonzero(flow))
         diagnostics = {"flow_columns": flow.tolist()}
         if moving == 0 or math.hypot(x, y) <= 1e-9 * moving:
-            return HomingEstimate(None, rotation, n_landmarks=moving, diagnostics=diagnostics)
-        angle = math.atan2(y, x) - (rotation or 0.0)
+            return HomingEstimate(None, n_landmarks=moving, diagnostics=diagnostics)
         return HomingEstimate(
-            angle=float(wrap_angle(angle)),
-            rotation=rotation,
+            angle=math.atan2(y, x),
             n_landmarks=moving,
             score=math.hypot(x, y) / moving,
             diagnostics=diagnostics,

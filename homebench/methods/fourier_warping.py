@@ -25,6 +25,14 @@ Readings (see the parameters): the number of coefficients; the search grid (1-D 
 Franz et al. 1998 Table 1); the horizon signal (1-D warping's band average). ``rho = 0`` carries
 no direction: ``angle=None``, the rotation kept. A texture-less signal gives
 :meth:`HomingEstimate.none`.
+
+Paper look-up (issue 14): the coefficient count and the search grid are not in reach here. The
+full text of Stürzl and Mallot (2006) was not found in the searched public pages (searches for
+the paper's title and for its coefficient count found only unrelated Fourier-descriptor work);
+Möller and Vardy (2006, Biol. Cybern. 95, 413-430, first page reached at fdocuments.in) apply
+their matched filters to "a Fourier-based parameter method" without the count. Chosen as
+``n_coefficients = 10`` (option) and 1-D warping's grid (options ``n_rho``, ``n_alpha``,
+``n_psi``), to be checked against the paper.
 """
 
 from __future__ import annotations

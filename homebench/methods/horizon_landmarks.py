@@ -11,9 +11,11 @@ Threshold rules (the papers use scenes of black landmarks on white, where any gr
 the two separates them; natural scenes need a rule per image): the signal's ``mean`` or
 ``median``.
 
-:class:`LandmarkViews` holds what the two methods share besides: their horizon and compass
-parameters, ``describe`` (the horizon signal and the compass image) and the goal's sectors
-turned into the current robot frame by the visual compass.
+:class:`LandmarkViews` holds what the two methods share besides: their horizon parameters and
+``describe`` (the horizon signal). Both compare bearings in one frame: the papers' external
+compass, which a grid database captured at one heading stands for; a config entry's
+``compass: visual`` (engine level, :data:`homebench.methods.visual_compass.CompassMode`) turns
+the current view back by the visual compass before ``describe``.
 """
 
 from __future__ import annotations
@@ -29,12 +31,6 @@ from homebench.geometry import TWO_PI, PanoramaGeometry, wrap_angle
 from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import View
 from homebench.methods.params import check_choices, param
-from homebench.methods.visual_compass import (
-    Compass,
-    compass_image,
-    compass_param,
-    compass_rotation,
-)
 
 FloatArray = NDArray[np.float64]
 
@@ -58,10 +54,6 @@ class Sectors:
         """The dark or the bright sectors only."""
         keep = self.dark if kind == "dark" else ~self.dark
         return Sectors(self.centres[keep], self.widths[keep], self.dark[keep])
-
-    def turned(self, rotation: float) -> Sectors:
-        """These sectors seen by a robot turned ccw by ``rotation`` radians (azimuths minus it)."""
-        return Sectors(wrap_angle(self.centres - rotation), self.widths, self.dark)
 
 
 def threshold(signal: FloatArray, rule: ThresholdRule) -> float:
@@ -92,7 +84,7 @@ def vector_direction(vector: FloatArray) -> float | None:
 
 @dataclass(frozen=True)
 class LandmarkViews:
-    """What ALV and the snapshot model share: the horizon signal, its sectors, the compass.
+    """What ALV and the snapshot model share: the horizon signal and its sectors.
 
     A mix-in of parameter fields and feature code for the two method dataclasses."""
 
@@ -112,7 +104,6 @@ class LandmarkViews:
         reading="the papers' scenes are black and white, where any level between the two "
         "separates landmarks from background; a per-image rule for grey-level scenes",
     )
-    compass: Compass = compass_param()
 
     def check_landmark_params(self) -> None:
         """ConfigError (naming the method) for a bad choice, band or column count."""
@@ -123,30 +114,15 @@ class LandmarkViews:
         if self.n_columns is not None and self.n_columns < 4:
             raise ConfigError(f"{name}: n_columns must be at least 4")
 
-    def describe(self, view: View) -> dict[str, FloatArray | None]:
-        """``signal``: the horizon signal (n_columns,) in canonical columns; ``compass``: the
-        compass image (see :func:`compass_image`), or None with ``compass = none``."""
+    def describe(self, view: View) -> FloatArray:
+        """The horizon signal (n_columns,) in canonical columns."""
         geometry = view.geometry
         if not isinstance(geometry, PanoramaGeometry):
             raise ConfigError("horizon landmarks: need an unfolded panorama, got a raw image")
         n = geometry.width if self.n_columns is None else self.n_columns
         half = np.radians(self.band_half_width_deg)
-        return {
-            "signal": horizon_signal(view.image, geometry, half, n),
-            "compass": compass_image(view) if self.compass == "visual" else None,
-        }
+        return horizon_signal(view.image, geometry, half, n)
 
-    def aligned_sectors(
-        self, current: dict[str, FloatArray | None], goal: dict[str, FloatArray | None]
-    ) -> tuple[Sectors, Sectors, float | None]:
-        """Sectors of the current view and of the goal view in the current robot frame, and the
-        compass's heading change (None with ``compass = none``)."""
-        rotation = None
-        if self.compass == "visual":
-            rotation = compass_rotation(current["compass"], goal["compass"])
-        goal_sectors = horizon_sectors(goal["signal"], self.threshold)
-        return (
-            horizon_sectors(current["signal"], self.threshold),
-            goal_sectors.turned(rotation or 0.0),
-            rotation,
-        )
+    def sectors(self, signal: FloatArray) -> Sectors:
+        """Sectors of a horizon signal (n,) by this method's threshold rule."""
+        return horizon_sectors(signal, self.threshold)

@@ -13,16 +13,17 @@ at azimuth ``phi`` (a point at azimuth phi and distance r moves in azimuth by ``
 per unit step along x, by ``-cos(phi)/r`` along y), so
 ``grad D = 2 * sum (C - S) * (dC/dx, dC/dy)`` and the home direction is that of ``-grad D``
 (r > 0 drops out). The images must be aligned: the paper's databases are captured at one
-heading, and so is the default here (``compass = none``); ``compass = visual`` turns the goal
-image into the current robot frame by whole columns by the visual compass
-(:func:`homebench.methods.visual_compass.compass_rotation`). The direction is in the current
-robot frame.
+heading, as a grid database is; a config entry's ``compass: visual`` (engine level, any method,
+:data:`homebench.methods.visual_compass.CompassMode`) turns a current view back by the visual
+compass first. The paper has no compass step: a compass error of a few degrees adds an image
+difference the matched filters read as a translation. The direction is in the current robot
+frame.
 
 Readings and options (see the parameters): the images (whole unfolded panoramas, canonical
 columns); the azimuthal derivative (central difference of neighbouring columns, periodic); only
 the azimuthal component of the flow enters the filters (points at one horizontal distance; no
 elevation flow). A texture-less image gives :meth:`HomingEstimate.none`; a zero gradient
-(identical views) ``angle=None`` with the compass's rotation.
+(identical views) ``angle=None``.
 """
 
 from __future__ import annotations
@@ -35,14 +36,9 @@ from numpy.typing import NDArray
 
 from homebench.geometry import TWO_PI
 from homebench.methods.base import HomingEstimate, ImageKind
-from homebench.methods.params import documented, param
+from homebench.methods.params import documented
 from homebench.methods.registry import register
-from homebench.methods.visual_compass import (
-    COMPASS_MEANING,
-    Compass,
-    WholeImageViews,
-    compass_rotation,
-)
+from homebench.methods.visual_compass import WholeImageViews
 from homebench.methods.warping import is_flat
 
 FloatArray = NDArray[np.float64]
@@ -74,29 +70,17 @@ class MatchedFilterDescent(WholeImageViews):
     name: ClassVar[str] = "mfdid"
     image_kind: ClassVar[ImageKind] = "unfolded"
 
-    compass: Compass = param(
-        "none",
-        COMPASS_MEANING,
-        paper="assumes aligned views (its databases are captured at one heading) and has no "
-        "compass step; visual lets turned views be used, but a compass error of a few degrees "
-        "adds an image difference the matched filters read as a translation",
-    )
-
     def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
         """Home direction: minus the matched-filter gradient of the image distance."""
         if current.shape != goal.shape:
             raise ValueError("mfdid: current and goal images differ in shape")
         if is_flat(current) or is_flat(goal):
             return HomingEstimate.none(n_landmarks=int(current.size), reason="no texture")
-        rotation = compass_rotation(current, goal) if self.compass == "visual" else None
-        shift = round((rotation or 0.0) * current.shape[-1] / TWO_PI)
-        snapshot = np.roll(goal, -shift, axis=-1)  # the goal image in the current robot frame
-        gradient = distance_gradient(current, snapshot)
+        gradient = distance_gradient(current, goal)
         angle = float(np.arctan2(-gradient[1], -gradient[0])) if np.any(gradient) else None
         return HomingEstimate(
             angle=angle,
-            rotation=rotation,
             n_landmarks=int(current.size),
-            score=float(np.sqrt(np.mean((current - snapshot) ** 2))),
+            score=float(np.sqrt(np.mean((current - goal) ** 2))),
             diagnostics={"gradient": gradient.tolist()},
         )

@@ -9,16 +9,20 @@ right of a sector turns it to the left, and vice versa), and a **radial** one al
 sector's bearing, towards the sector when it looks smaller than in the snapshot (approach to
 enlarge it) and away from it when it looks larger. The home vector is their (weighted) sum.
 
-Here bearings are in the current robot frame, aligned as the bee's compass aligns them: by a
-grid database's common heading (``compass = none``, the default) or, opt-in, by the visual
-compass's heading change (see :class:`homebench.methods.horizon_landmarks.LandmarkViews`),
-with the same segmentation as ALV
-(:mod:`homebench.methods.horizon_landmarks`). A pair whose bearings (sizes) agree exactly adds no
-tangential (radial) vector.
+Here bearings are in the current robot frame, aligned with the snapshot's as the bee's compass
+aligns them: a grid database's common heading is that alignment; a config entry's ``compass:
+visual`` (engine level, any method) turns the current view back by the visual compass's heading
+change first. The segmentation is ALV's (:mod:`homebench.methods.horizon_landmarks`). A pair
+whose bearings (sizes) agree exactly adds no tangential (radial) vector.
 
 No direction without evidence: no pair of sectors (a flat horizon) gives
-:meth:`HomingEstimate.none`; a zero sum (identical views) gives ``angle=None`` with the
-compass's rotation.
+:meth:`HomingEstimate.none`; a zero sum (identical views) gives ``angle=None``.
+
+Paper look-up (issue 14): the relative weight of the tangential and radial vectors is not in
+reach here. The searched public pages hold the abstracts of Cartwright and Collett's later
+papers ("Landmark maps for honeybees", 1987: the bee "moves so as to reduce the discrepancy"
+between snapshot and image) but not the 1983 model's equations. Chosen as equal unit weights
+(options ``tangential_weight``, ``radial_weight``), to be checked against the paper.
 """
 
 from __future__ import annotations
@@ -38,8 +42,8 @@ from homebench.methods.registry import register
 
 FloatArray = NDArray[np.float64]
 
-#: Bearing difference (radians) below which a pair counts as aligned (rounding of the compass
-#: turn), so identical views give no tangential vectors.
+#: Bearing difference (radians) below which a pair counts as aligned (rounding), so identical
+#: views give no tangential vectors.
 BEARING_TOLERANCE = 1e-9
 
 
@@ -99,18 +103,15 @@ class SnapshotModel(LandmarkViews):
         if self.tangential_weight + self.radial_weight == 0:
             raise ConfigError("snapshot: at least one weight must be positive")
 
-    def home(
-        self, current: dict[str, FloatArray | None], goal: dict[str, FloatArray | None]
-    ) -> HomingEstimate:
-        """Home direction: the angle of the weighted sum of the pairs' unit vectors."""
-        now, snapshot, rotation = self.aligned_sectors(current, goal)
-        tangential, radial, pairs = snapshot_vectors(snapshot, now)
+    def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
+        """Home direction: the angle of the weighted sum of the pairs' unit vectors; the
+        features are horizon signals (n,)."""
+        tangential, radial, pairs = snapshot_vectors(self.sectors(goal), self.sectors(current))
         if pairs == 0:
             return HomingEstimate.none(reason="no sector pairs")
         vector = self.tangential_weight * tangential + self.radial_weight * radial
         return HomingEstimate(
             angle=vector_direction(vector),
-            rotation=rotation,
             n_landmarks=pairs,
             score=float(np.hypot(*vector)),
             diagnostics={"tangential": tangential.tolist(), "radial": radial.tolist()},

@@ -14,9 +14,10 @@ current image rolled by ``s`` columns (``np.roll(current, s, axis=-1)``) matches
 the RIDF at shift ``s`` is ``sqrt(mean((roll(current, s) - goal)**2))``; the estimated rotation
 is ``s_min * 2*pi/n``, wrapped to [-pi, pi).
 
-:func:`compass_rotation` is the one compass step of this package: methods whose papers assume
-aligned views (an external compass, or a database captured at one heading) call it on
-:func:`compass_image` features (their ``compass: visual | none`` option).
+:func:`compass_rotation` is the one compass step of this package. The engine applies it to any
+method whose config entry says ``compass: visual`` (see :data:`CompassMode`): it turns the
+current view back by the estimate (:func:`compass_turn`) before the method describes it, and
+:func:`in_current_frame` turns the method's answer into the current robot frame.
 
 Readings and options (see the parameters): the image region (the whole unfolded image, both
 papers, or an elevation band); the resolution (the image's own width); sub-column refinement by
@@ -26,8 +27,8 @@ rotation). A texture-less image gives :meth:`HomingEstimate.none`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from dataclasses import dataclass, replace
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,27 +43,11 @@ from homebench.methods.warping import is_flat
 
 FloatArray = NDArray[np.float64]
 
-Compass = Literal["visual", "none"]
-
-#: Meaning of the ``compass`` parameter of the methods that align views with this compass.
-COMPASS_MEANING = (
-    "How the goal view is turned into the current robot frame: visual (the heading change from "
-    "the visual compass, homebench.methods.visual_compass) or none (the views are taken as "
-    "aligned, heading change 0)."
-)
-
-
-def compass_param() -> Any:
-    """The ``compass`` field of the methods whose papers align views with an external compass
-    (ALV, snapshot, block matching): ``none`` by default, the visual compass opt-in."""
-    return param(
-        "none",
-        COMPASS_MEANING,
-        paper="the papers align the views with an external compass; a grid database captured at "
-        "one heading is that alignment (none). visual stands in the visual compass for turned "
-        "views or sets without a common heading: on the generated rooms it errs by about 4 deg "
-        "at 0.3 m and by tens of degrees beyond 1 m (reports/baselines)",
-    )
+#: A method entry's ``compass`` (engine level, any method): ``none`` (the views as stored: a
+#: grid database captured at one heading is the papers' external compass), ``visual`` (the
+#: current view turned back by this compass's estimate) or ``truth`` (turned back by the true
+#: heading change, to whole columns: an ideal compass, to tell compass from homing errors).
+CompassMode = Literal["none", "visual", "truth"]
 
 
 def ridf(current: ArrayLike, goal: ArrayLike) -> FloatArray:
@@ -117,6 +102,21 @@ def check_band(name: str, band: tuple[float, float] | None) -> None:
         raise ConfigError(f"{name}: elevation_range_deg must be (bottom, top) with bottom < top")
 
 
+def whole_columns(angle: float, columns: int) -> float:
+    """``angle`` (radians) rounded to a whole number of ``columns``-column steps, in [-pi, pi)."""
+    step = TWO_PI / columns
+    return float(wrap_angle(round(angle / step) * step))
+
+
+def in_current_frame(estimate: HomingEstimate, turn: float) -> HomingEstimate:
+    """An estimate made on the current view turned back by ``turn`` (radians, ccw: the view
+    a robot turned by ``-turn`` sees), in the current robot frame: the direction minus
+    ``turn``, the heading change plus ``turn`` (``turn`` alone when the method gives none)."""
+    angle = None if estimate.angle is None else float(wrap_angle(estimate.angle - turn))
+    rotation = float(wrap_angle(turn + (estimate.rotation or 0.0)))
+    return replace(estimate, angle=angle, rotation=rotation)
+
+
 def compass_image(view: View, elevation_range_deg: tuple[float, float] | None = None) -> FloatArray:
     """The image the compass compares, (rows, width) grey levels in canonical columns.
 
@@ -132,6 +132,12 @@ def compass_image(view: View, elevation_range_deg: tuple[float, float] | None = 
         bottom, top = np.radians(elevation_range_deg)
         n_rows = max(1, round((top - bottom) / geometry.row_step))
     return horizon_band(view.image, geometry, bottom, top, n_rows, geometry.width)
+
+
+def compass_turn(current: View, goal: View) -> float:
+    """Heading change goal -> current (radians, whole columns) of two unfolded views, their
+    whole images compared (the compass step of ``compass: visual``)."""
+    return compass_rotation(compass_image(current), compass_image(goal))
 
 
 @dataclass(frozen=True)

@@ -29,6 +29,11 @@ introduces both methods), alpha and psi in whole columns of the band; the rho gr
 warping's (Franz et al. 1998, Table 1); the image distance is the sum of squared differences.
 ``rho = 0`` carries no direction (every alpha gives the same warp): the estimate then has
 ``angle=None`` but keeps the rotation. A texture-less band gives :meth:`HomingEstimate.none`.
+
+Paper look-up (issue 14): Möller's (2009) rho grid is not in reach here: the searched public
+pages hold no text of the paper (searches for its title and for the warping parameter grid
+found unrelated image-warping pages). Chosen as 1-D warping's grid (option ``n_rho``), to be
+checked against the paper.
 """
 
 from __future__ import annotations
