@@ -3,6 +3,7 @@ the scripts run from the repository root as ``python benchmarks/bench_x.py``).""
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 
@@ -17,3 +18,22 @@ def per_call(function: Callable[[], object], repeats: int) -> float:
             function()
         times.append((time.perf_counter() - start) / repeats)
     return min(times)
+
+
+def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, float]:
+    """Best-of-3 per-call process CPU seconds (``time.process_time``) and wall seconds over
+    ``repeats`` calls (after one warm-up call), each the best of its own three rounds."""
+    function()
+    cpu, wall = [], []
+    for _ in range(3):
+        cpu_start, wall_start = time.process_time(), time.perf_counter()
+        for _ in range(repeats):
+            function()
+        cpu.append((time.process_time() - cpu_start) / repeats)
+        wall.append((time.perf_counter() - wall_start) / repeats)
+    return min(cpu), min(wall)
+
+
+def load() -> str:
+    """The 1-, 5- and 15-minute load averages, for a benchmark's report."""
+    return "load average " + " ".join(f"{x:.2f}" for x in os.getloadavg())

@@ -21,6 +21,7 @@ from homebench.geometry import PanoramaGeometry, Pose, angular_error, home_direc
 from homebench.methods import registry
 from homebench.methods.base import HomingEstimate, View
 from homebench.methods.klt_sector import KltSector
+from homebench.methods.klt_tracking import KltTracker
 
 TOLERANCE = math.radians(10.0)
 GOAL = Pose(0.2, -0.3, 0.4)
@@ -196,7 +197,7 @@ def test_cached_route_prefixes_give_the_uncached_correspondences():
     route = [method.describe(render(pose)) for pose in route_views(GOAL, far, 0.15)]
     current = method.describe(render(far))
     cached = [method.correspondences(current, goal, route[:n]) for n in (2, 4, len(route))]
-    assert len(method._route_tracks) == len(route)  # each prefix tracked once
+    assert len(method._route_tracks) == len(route) + 3  # each prefix, and each into current
     for n, (goal_xy, current_xy) in zip((2, 4, len(route)), cached, strict=True):
         fresh = KltSector().correspondences(current, goal, route[:n])
         np.testing.assert_array_equal(goal_xy, fresh[0])
@@ -207,3 +208,28 @@ def test_cached_route_prefixes_give_the_uncached_correspondences():
         uncached.correspondences(current, goal, no_digest)[1], cached[-1][1]
     )
     assert not uncached._route_tracks  # views without a digest are never cached
+
+
+def test_a_current_on_the_route_to_a_farther_one_costs_no_tracking(monkeypatch):
+    """The routes from a goal form a tree: each edge is tracked once, whatever the order."""
+    method = KltSector()
+    goal = method.describe(render(GOAL))
+    far = Pose(GOAL.x + 0.9, GOAL.y + 0.3, GOAL.heading)
+    views = [method.describe(render(pose)) for pose in route_views(GOAL, far, 0.15)]
+    views.append(method.describe(render(far)))
+    fresh = {n: KltSector().correspondences(views[n], goal, views[:n]) for n in (5, 1, 3)}
+    steps = []
+    step = KltTracker.step
+
+    def counted(*args, **kwargs):
+        steps.append(1)
+        return step(*args, **kwargs)
+
+    monkeypatch.setattr(KltTracker, "step", counted)
+    method.correspondences(views[-1], goal, views[:-1])
+    assert len(steps) == len(views)
+    for n, (goal_xy, current_xy) in fresh.items():  # currents on the way, already reached
+        near = method.correspondences(views[n], goal, views[:n])
+        np.testing.assert_array_equal(near[0], goal_xy)
+        np.testing.assert_array_equal(near[1], current_xy)
+    assert len(steps) == len(views)  # not one step more

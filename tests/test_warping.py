@@ -13,12 +13,13 @@ import math
 import numpy as np
 import pytest
 from synthetic_panorama import home_errors, render, rolled
+from warping_reference import direct_costs
 
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.warping import Warping, normalize_signal, warp_tables
+from homebench.methods.warping import Warping, best_hypothesis, normalize_signal, warp_tables
 
 TOLERANCE = math.radians(15.0)
 STEP = math.radians(5.0)  # one psi step: the rotation is found to within one step
@@ -180,3 +181,81 @@ def test_unknown_choices_are_config_errors():
         Warping(normalize="histogram")
     with pytest.raises(ConfigError, match="distance"):
         Warping(distance="sad")
+
+
+def _signals(seed: int, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Two smooth random grey-level signals (current, goal) of n columns."""
+    rng = np.random.default_rng(seed)
+    spectrum = rng.normal(size=(2, n // 2 + 1)) + 1j * rng.normal(size=(2, n // 2 + 1))
+    signals = np.fft.irfft(spectrum * np.exp(-np.arange(n // 2 + 1) / 4.0), n=n)
+    return tuple(128.0 + 60.0 * signals / signals.std(axis=1, keepdims=True))
+
+
+# small grids for the direct search: s = t, t a multiple of s (unit s), s a multiple of t, dot
+SMALL_GRIDS = [
+    {"n_columns": 24, "n_alpha": 24, "n_psi": 24},
+    {"n_columns": 24, "n_alpha": 24, "n_psi": 12},
+    {"n_columns": 48, "n_alpha": 12, "n_psi": 24},
+    {"n_columns": 24, "n_alpha": 8, "n_psi": 24, "distance": "dot"},
+]
+
+
+@pytest.mark.parametrize("params", SMALL_GRIDS)
+def test_costs_are_the_direct_search_and_home_finds_their_minimum(params):
+    method = Warping(n_rho=5, rho_max=0.8, **params)
+    for seed in range(3):
+        current, goal = _signals(seed, method.n_columns)
+        costs = method.costs(current, goal)
+        np.testing.assert_allclose(costs, direct_costs(method, current, goal), rtol=1e-12)
+        estimate = method.home(current, goal)
+        assert estimate == best_hypothesis(costs, method.rho, method.n_columns)
+        assert estimate.score == costs.min()
+
+
+@pytest.mark.parametrize("params", [{}, {"distance": "dot"}, {"n_psi": 36}])
+def test_home_is_the_first_minimum_of_the_costs_on_the_table_1_grid(params):
+    method = Warping(**params)
+    arena = [method.describe(render(Pose(GOAL.x + dx, GOAL.y, 1.0))) for dx in (0.0, 0.4, -0.9)]
+    pairs = [_signals(seed, 72) for seed in range(4)] + [(arena[1], arena[0]), (arena[2], arena[0])]
+    for current, goal in pairs:
+        expected = best_hypothesis(method.costs(current, goal), method.rho, method.n_columns)
+        assert method.home(current, goal) == expected
+
+
+def test_exact_ties_go_to_the_lowest_alpha_and_psi():
+    """rho = 0 warps alike for every alpha, and a signal of period n/2 matches two psi alike:
+    the float32 screen must not decide such ties, the first hypothesis wins."""
+    method = Warping()
+    half = _signals(7, 36)[0]
+    goal = np.tile(half, 2)
+    current = np.roll(goal, -5)  # current[k] = goal[k + 5]: psi of 5 columns, and 41
+    costs = method.costs(current, goal)
+    assert costs[0, 0, 5] == costs[0, 40, 5] == costs[0, 0, 41] == 0.0
+    estimate = method.home(current, goal)
+    assert (estimate.diagnostics["rho"], estimate.diagnostics["alpha"]) == (0.0, 0.0)
+    assert estimate.rotation == pytest.approx(5 * STEP, abs=1e-12)  # psi 5, not 41
+    assert estimate.score == 0.0 and estimate.angle is None
+
+
+def test_a_goal_kept_from_an_earlier_pair_gives_the_same_estimates():
+    kept, fresh = Warping(), Warping()
+    goals = [_signals(seed, 72)[1] for seed in range(6)]  # more goals than the method keeps
+    current = _signals(9, 72)[0]
+    for goal in goals + goals[::-1]:
+        assert kept.home(current, goal) == Warping().home(current, goal)
+    assert kept == fresh  # the kept goals are no parameter
+
+
+def test_alpha_must_be_whole_columns():
+    with pytest.raises(ConfigError, match="n_alpha"):
+        Warping(n_alpha=50)
+
+
+@pytest.mark.parametrize("scale", [1e30, 1e-11])
+def test_signals_beyond_float32_are_searched_exactly(scale):
+    """Grey levels whose squares float32 cannot hold skip the screen: the same first minimum."""
+    method = Warping()
+    current, goal = (signal * scale for signal in _signals(3, 72))
+    expected = best_hypothesis(method.costs(current, goal), method.rho, method.n_columns)
+    assert method.home(current, goal) == expected
+    assert expected.angle is not None

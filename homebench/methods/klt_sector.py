@@ -153,20 +153,21 @@ class KltSector:
 
         Tracks the goal's corners through ``route`` (goal towards current) into ``current``.
         """
-        tracker = self.tracker
-        for view in (*route, current):
+        views = (*route, current)
+        for view in views:
             if view.image.shape != goal.image.shape or view.geometry != goal.geometry:
                 raise ValueError("klt-sector: the views of a route must share one geometry")
-        tracks = self._through_route(goal, route)
-        last = route[-1] if route else goal
-        tracks = tracker.step(last.image, tracks, current.image, replenish=False).survivors()
+        tracks = self._through_route(goal, views)
         return goal.corners[tracks.ids], tracks.positions
 
     def _through_route(self, goal: KltFeatures, route: Sequence[KltFeatures]) -> Tracks:
-        """The goal's corners tracked through ``route``, reusing the longest cached prefix.
+        """The goal's corners tracked through ``route`` (its last view: the current one),
+        reusing the longest cached prefix.
 
-        Identical to tracking from scratch (tracking is deterministic); views without a digest
-        are never cached.
+        The routes from one goal form a tree (the straight lines to the currents share their
+        first views, and a current is often a view on the route to a farther one): each edge
+        is tracked once. Identical to tracking from scratch (tracking is deterministic); views
+        without a digest are never cached.
         """
         keys = (goal.digest, *(view.digest for view in route))
         cacheable = all(keys)

@@ -11,23 +11,27 @@ warped by (rho, alpha) and rotated by psi predicts the current signal; the searc
 distance and the home direction is ``beta = alpha - psi + pi`` (eq. 4), in the
 current robot frame.
 
-Speed: the warp depends on (rho, alpha) only through ``phi``, so the goal signal is warped once
-per (rho, alpha) (precomputed index tables) and psi becomes a circular shift: all shifts are one
-matrix product with the circulant of the current signal.
+Speed (:mod:`homebench.methods.warping_search`): alpha and psi are whole column shifts, so all
+hypotheses are one float32 matrix product of the current signal's shifts with the goal warped
+for every (rho, alpha), built by copying rows; the best few are re-scored exactly in float64
+(:meth:`Warping.costs`, hypothesis by hypothesis), so the optimum does not depend on the BLAS
+kernel or thread count. The goal's part is kept for the last few goals (a job homes every
+current view to one goal).
 
 Readings and options (see the parameters): the 1-D signal is the mean of a band of rows around
 the horizon, one column per psi step; seed 001 does not say how W compares images, homebench
 reads the sum of squared differences (``distance``); no normalisation of the signal
 (``normalize``, an option). ``rho = 0`` (no displacement found) carries no direction: the warp
-is then the identity for every alpha, which all tie, so eq. 4 would turn the search order into
-a direction; the estimate has ``angle=None`` (counted as "no estimate") but keeps the rotation.
+is then the identity for every alpha, which all tie exactly (the search reports alpha = 0), so
+eq. 4 would turn the search order into a direction; the estimate has ``angle=None`` (counted as
+"no estimate") but keeps the rotation.
 A texture-less signal gives :meth:`HomingEstimate.none`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -39,11 +43,22 @@ from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.params import check_choices, documented, param
 from homebench.methods.registry import register
+from homebench.methods.warping_search import (
+    GoalScreen,
+    SearchGrid,
+    all_costs,
+    screen_goal,
+    search,
+    search_grid,
+)
+from homebench.methods.warping_search import warp_tables as warp_tables  # shared by warping-2d
 
 FloatArray = NDArray[np.float64]
 
 #: Relative spread below which a signal counts as texture-less.
 FLAT_TOLERANCE = 1e-9
+#: Goals whose part of the search screen one method instance keeps.
+SCREEN_CACHE_SIZE = 4
 
 Normalize = Literal["none", "equalize", "zscore"]
 SignalDistance = Literal["ssd", "dot"]
@@ -51,28 +66,8 @@ SignalDistance = Literal["ssd", "dot"]
 
 def is_flat(signal: FloatArray) -> bool:
     """True when ``signal`` (any shape) has no texture to match (spread ~ 0)."""
-    return bool(np.ptp(signal) <= FLAT_TOLERANCE * (1.0 + np.max(np.abs(signal))))
-
-
-@lru_cache(maxsize=8)
-def warp_tables(
-    n_columns: int, rho: tuple[float, ...], n_alpha: int
-) -> tuple[NDArray[np.intp], FloatArray]:
-    """Linear-interpolation tables of the warped goal signal.
-
-    Returns ``(low, frac)``, each of shape (n_rho * n_alpha, n_columns): the warped signal at
-    canonical column k (azimuth ``phi = 2*pi*k/n``) for ``(rho[r], alpha[a])`` (row
-    ``r * n_alpha + a``) is ``(1 - frac) * goal[low] + frac * goal[(low + 1) % n]``.
-    """
-    phi = TWO_PI * np.arange(n_columns) / n_columns
-    alpha = TWO_PI * np.arange(n_alpha) / n_alpha
-    r = np.asarray(rho)[:, None, None]
-    theta = phi[None, None, :] - np.arcsin(r * np.sin(phi[None, None, :] - alpha[None, :, None]))
-    position = (theta * (n_columns / TWO_PI)) % n_columns
-    low = np.floor(position).astype(np.intp)
-    frac = position - low
-    shape = (len(rho) * n_alpha, n_columns)
-    return (low % n_columns).reshape(shape), frac.reshape(shape)
+    high, low = float(signal.max()), float(signal.min())
+    return high - low <= FLAT_TOLERANCE * (1.0 + max(high, -low))
 
 
 def normalize_signal(signal: FloatArray, mode: Normalize) -> FloatArray:
@@ -105,7 +100,7 @@ class Warping:
     n_psi: int = param(72, "Search steps of psi over a full turn (Table 1: 5 deg).")
     n_columns: int = param(
         72,
-        "Columns of the 1-D horizon signal (a multiple of n_psi).",
+        "Columns of the 1-D horizon signal (a multiple of n_alpha and of n_psi).",
         reading="not stated; one column per psi step, which on a 288-column panorama averages "
         "four columns (a low-pass before warping)",
     )
@@ -131,12 +126,20 @@ class Warping:
         "product Möller's early reimplementation of Franz et al. (1998) used by default",
     )
 
+    # The goal's part of the search screen, by the goal signal's bytes: the currents of one
+    # goal share it. Not a parameter.
+    _screens: dict[bytes, GoalScreen | None] = field(
+        default_factory=dict, init=False, repr=False, compare=False
+    )
+
     def __post_init__(self) -> None:
         check_choices(self)
         if self.n_rho < 2 or not 0.0 < self.rho_max < 1.0:
             raise ConfigError("warping: need n_rho >= 2 and 0 < rho_max < 1")
         if self.n_alpha < 1 or self.n_psi < 1 or self.n_columns % self.n_psi:
             raise ConfigError("warping: n_columns must be a multiple of n_psi (psi = whole shifts)")
+        if self.n_columns % self.n_alpha:
+            raise ConfigError("warping: n_columns must be a multiple of n_alpha (whole shifts)")
         if not 0.0 < self.band_half_width_deg < 90.0:
             raise ConfigError("warping: band_half_width_deg must be in (0, 90)")
 
@@ -154,52 +157,77 @@ class Warping:
         return normalize_signal(signal, self.normalize)
 
     def costs(self, current: FloatArray, goal: FloatArray) -> FloatArray:
-        """Distance of every (rho, alpha, psi), lower is better: shape (n_rho, n_alpha, n_psi).
+        """Distance of every (rho, alpha, psi), lower is better: shape (n_rho, n_alpha, n_psi),
+        float64, hypothesis by hypothesis (the reference :meth:`home` finds the argmin of).
 
         ``ssd``: sum of squared differences; ``dot``: minus the scalar product."""
-        n = self.n_columns
-        low, frac = warp_tables(n, self.rho, self.n_alpha)
-        warped = (1.0 - frac) * goal[low] + frac * goal[(low + 1) % n]  # (n_rho*n_alpha, n)
-        step = n // self.n_psi
-        # circulant[k, p] = current[k - p * step]: predicted current(theta') = warped(theta' + psi)
-        circulant = current[(np.arange(n)[:, None] - step * np.arange(self.n_psi)[None, :]) % n]
-        cross = warped @ circulant
-        if self.distance == "dot":
-            cost = -cross
-        else:
-            ssd = np.sum(current**2) + np.sum(warped**2, axis=1)[:, None] - 2.0 * cross
-            cost = np.maximum(ssd, 0.0)
-        return cost.reshape(self.n_rho, self.n_alpha, self.n_psi)
+        return all_costs(self._grid, current, goal, self.distance == "ssd")
 
     def home(self, current: FloatArray, goal: FloatArray) -> HomingEstimate:
-        """Home direction beta = alpha - psi + pi at the best (rho, alpha, psi)."""
+        """Home direction beta = alpha - psi + pi at the best (rho, alpha, psi): the argmin of
+        :meth:`costs`, found by a float32 screen and exact float64 re-scoring (see
+        :mod:`homebench.methods.warping_search`)."""
         if current.shape != goal.shape or current.shape != (self.n_columns,):
             raise ValueError(f"warping: features must have shape ({self.n_columns},)")
-        if is_flat(current) or is_flat(goal):
+        screen = self._screen(goal)
+        if screen is None or is_flat(current):
             return HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
-        return best_hypothesis(self.costs(current, goal), self.rho, self.n_columns)
+        ssd = self.distance == "ssd"
+        index, score = search(self._grid, current, goal, screen, ssd)
+        shape = (self.n_rho, self.n_alpha, self.n_psi)
+        return estimate_at(index, score, shape, self.rho, self.n_columns)
+
+    @cached_property
+    def _grid(self) -> SearchGrid:
+        return search_grid(self.n_columns, self.rho, self.n_alpha, self.n_psi)
+
+    def _screen(self, goal: FloatArray) -> GoalScreen | None:
+        """The goal's part of the screen (None: the goal has no texture), kept for the last
+        goals (a job homes every current view to one goal)."""
+        key = goal.tobytes()
+        if key not in self._screens:
+            if len(self._screens) >= SCREEN_CACHE_SIZE:
+                self._screens.clear()
+            flat = is_flat(goal)
+            ssd = self.distance == "ssd"
+            self._screens[key] = None if flat else screen_goal(self._grid, goal, ssd)
+        return self._screens[key]
 
 
+@lru_cache(maxsize=64)
 def rho_grid(rho_max: float, n_rho: int) -> tuple[float, ...]:
     """The rho values a warping search tries: ``n_rho`` evenly from 0 to ``rho_max``."""
     return tuple(np.linspace(0.0, rho_max, n_rho).tolist())
 
 
 def best_hypothesis(cost: FloatArray, rho: tuple[float, ...], n_landmarks: int) -> HomingEstimate:
-    """The estimate of a warping search's best (rho, alpha, psi): home direction eq. 4,
-    ``beta = alpha - psi + pi``, rotation psi.
+    """The estimate of a warping search's best (rho, alpha, psi), the first minimum of ``cost``
+    (shape (n_rho, n_alpha, n_psi), lower is better): see :func:`estimate_at`. Shared by every
+    warping variant."""
+    index = np.unravel_index(int(np.argmin(cost)), cost.shape)
+    r, a, p = (int(i) for i in index)
+    return estimate_at((r, a, p), float(cost[r, a, p]), cost.shape, rho, n_landmarks)
 
-    ``cost``: shape (n_rho, n_alpha, n_psi), lower is better, alpha and psi evenly spaced
-    over a full turn; ``rho``: the searched values (n_rho,), the first 0 (no displacement:
-    no direction, see the module docstring). Shared by every warping variant.
+
+def estimate_at(
+    index: tuple[int, int, int],
+    score: float,
+    shape: tuple[int, ...],
+    rho: tuple[float, ...],
+    n_landmarks: int,
+) -> HomingEstimate:
+    """The estimate of hypothesis ``index = (r, a, p)`` of a search grid of ``shape`` (n_rho,
+    n_alpha, n_psi; alpha and psi evenly spaced over a full turn): home direction eq. 4,
+    ``beta = alpha - psi + pi``, rotation psi, ``score`` its cost. ``rho``: the searched
+    values (n_rho,), the first 0 (no displacement: no direction, see the module docstring).
     """
-    r, a, p = np.unravel_index(int(np.argmin(cost)), cost.shape)
-    alpha = TWO_PI * a / cost.shape[1]
-    psi = float(wrap_angle(TWO_PI * p / cost.shape[2]))
+    r, a, p = index
+    alpha = TWO_PI * a / shape[1]
+    psi = float(wrap_angle(TWO_PI * p / shape[2]))
     return HomingEstimate(
         angle=None if r == 0 else float(wrap_angle(alpha - psi + np.pi)),
         rotation=psi,
         n_landmarks=n_landmarks,
-        score=float(cost[r, a, p]),
+        score=score,
         diagnostics={"rho": rho[r], "alpha": float(alpha), "psi": psi},
     )
