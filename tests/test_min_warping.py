@@ -1,4 +1,5 @@
-"""Möller's min-warping: search against brute force, sign convention, rotation, degenerate inputs.
+"""Möller's min-warping: search against brute force, the compiled kernels against the numpy
+reference, double and fine search, sign convention, rotation, degenerate inputs.
 
 Tolerance of the home direction on the arena world: 15 deg, as for 1-D warping (alpha and psi
 in 3.75 deg steps, scales quantised to 9 planes); errors measured on these pairs stay below
@@ -8,6 +9,7 @@ about 8 deg.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 import pytest
@@ -22,11 +24,13 @@ from homebench.methods.min_warping import (
     MinWarping,
     column_distances,
     magnification_matrix,
-    search_runs,
+    quantize,
+    search_template,
 )
 
 TOLERANCE = math.radians(15.0)
 STEP = 2.0 * math.pi / 96  # one alpha / psi step of the default method
+COLUMN = 2.0 * math.pi / 288  # one band column of the default method (the fine search's step)
 GOAL = Pose(0.2, -0.3, 0.4)
 DISTANCES = ["ssd", "sad", "zssd", "zsad", "nssd", "nsad", "znssd", "znsad"]
 #: Plain SSD on grey levels: the arena tests' measure (its texture suits no other, see above).
@@ -52,6 +56,7 @@ def rich_wall(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(synthetic_panorama, "wall_texture", _rich_texture)
 
 
+@lru_cache(maxsize=4)
 def _admissible(n: int, n_scales: int, max_scale: float) -> list[set[tuple[int, int]]]:
     """Per goal offset x: the (plane, current offset) pairs some rho >= 0 reaches (brute force)."""
     h = (n_scales - 1) // 2
@@ -72,31 +77,107 @@ def _admissible(n: int, n_scales: int, max_scale: float) -> list[set[tuple[int, 
     return out
 
 
-def test_fast_search_equals_the_brute_force_minimum():
-    n, n_scales = 16, 5
-    method = MinWarping(n_columns=n, n_scales=n_scales)
-    distances = np.random.default_rng(1).uniform(0.0, 100.0, (n_scales, n, n)).astype(np.float32)
+def _brute_force(distances: np.ndarray, step: int) -> np.ndarray:
+    """Cost of every (alpha, psi) step (n // step, n // step) from the brute-force pairs."""
+    n_scales, n = distances.shape[:2]
     admissible = _admissible(n, n_scales, 2.0)
-    expected = np.zeros((n, n))
-    for a in range(n):
-        for p in range(n):
-            expected[a, p] = sum(
-                min(distances[k, (x + a) % n, (y + a - p) % n] for k, y in admissible[x])
-                for x in range(n)
-            )
-    np.testing.assert_allclose(method.costs(distances), expected, rtol=1e-6)
+    steps = range(0, n, step)
+    return np.array(
+        [
+            [
+                sum(
+                    int(min(distances[k, (x + a) % n, (y + a - p) % n] for k, y in admissible[x]))
+                    for x in range(n)
+                )
+                for p in steps
+            ]
+            for a in steps
+        ]
+    )
+
+
+@pytest.mark.parametrize("engine", ["numba", "numpy"])
+@pytest.mark.parametrize("step", [1, 2])
+def test_search_equals_the_brute_force_minimum(engine, step):
+    n, n_scales = 16, 5
+    method = MinWarping(n_columns=n // step, columns_per_step=step, n_scales=n_scales)
+    stack = np.random.default_rng(1).integers(0, 60000, (n_scales, n, n)).astype(np.uint16)
+    swapped = np.ascontiguousarray(stack[::-1].transpose(0, 2, 1))
+    np.testing.assert_array_equal(method.coarse(stack, engine), _brute_force(stack, step))
+    np.testing.assert_array_equal(method.coarse(stack, engine, True), _brute_force(swapped, step))
 
 
 def test_every_goal_column_may_stay_put_on_the_unit_scale_plane():
-    runs = search_runs(96, 9, 2.0)
-    for row, x in enumerate(runs.x):
-        covered = [
-            (runs.plane[row, q], (runs.start[row, q] + t) % 96)
-            for q in range(runs.count[row])
-            for t in range(runs.length[row, q])
-        ]
-        assert (4, x) in covered
-        assert len(covered) == len(set(covered))  # runs do not overlap
+    template = search_template(288, 9, 2.0)
+    for x in range(288):
+        entries = slice(template.x_start[x], template.x_start[x + 1])
+        pairs = list(zip(template.plane[entries], template.y[entries], strict=True))
+        assert (4, x) in pairs
+        assert len(pairs) == len(set(pairs))
+
+
+# The default size (96 steps x 3 columns, 9 planes) takes 20 s in the numpy reference: slow.
+@pytest.mark.parametrize(
+    ("n_columns", "step", "n_scales"),
+    [(12, 1, 3), (8, 3, 5), pytest.param(96, 3, 9, marks=pytest.mark.slow)],
+)
+def test_compiled_search_returns_the_numpy_reference_costs(n_columns, step, n_scales):
+    method = MinWarping(n_columns=n_columns, columns_per_step=step, n_scales=n_scales)
+    n = n_columns * step
+    stack = np.random.default_rng(n).integers(0, 65536, (n_scales, n, n)).astype(np.uint16)
+    compiled, numpy = method.searcher(stack, "numba"), method.searcher(stack, "numpy")
+    for swap in (False, True):
+        np.testing.assert_array_equal(compiled.coarse(swap), numpy.coarse(swap))
+        alphas, psis = np.array([0, 5, n - 1, -2]), np.array([0, n - 2, 7, 3])
+        np.testing.assert_array_equal(compiled.at(alphas, psis, swap), numpy.at(alphas, psis, swap))
+    fast, reference = method.search(stack, "numba"), method.search(stack, "numpy")
+    assert fast[:3] == reference[:3]
+    np.testing.assert_array_equal(fast[3], reference[3])
+
+
+@pytest.mark.parametrize(
+    ("dx", "dy", "heading", "distance"),
+    # The default distance in the default selection, the other with the slow tests (20 s each).
+    [(-1.2, -0.5, -2.0, "nsad"), pytest.param(0.0, 0.6, 0.4, "ssd", marks=pytest.mark.slow)],
+)
+def test_compiled_path_gives_the_numpy_reference_estimate(dx, dy, heading, distance):
+    method = MinWarping(distance=distance)
+    current = method.describe(render(Pose(GOAL.x + dx, GOAL.y + dy, heading)))
+    goal = method.describe(render(GOAL))
+    fast = method.quantized_stack(current, goal, "numba")
+    reference = method.quantized_stack(current, goal, "numpy")
+    assert np.max(np.abs(fast.astype(np.int64) - reference)) <= 1  # float32 vs float64 sums
+    assert method.search(fast, "numba")[:3] == method.search(fast, "numpy")[:3]
+    a, b = method.home(current, goal), method.home(current, goal, engine="numpy")
+    assert (a.angle, a.rotation, a.diagnostics) == (b.angle, b.rotation, b.diagnostics)
+
+
+def test_quantize_scales_the_largest_distance_to_65535():
+    stack = np.array([[[0.0, 1.0], [2.0, 4.0]]], dtype=np.float32)
+    np.testing.assert_array_equal(quantize(stack), [[[0, 16384], [32768, 65535]]])
+
+
+def test_swapping_the_views_swaps_the_parameters_exactly():
+    """Double search: the summed cost is the same function of the movement either way round, so
+    the views swapped give alpha' = alpha - psi + pi and psi' = -psi (fine search included)."""
+    method = MinWarping()
+    a = method.describe(render(Pose(GOAL.x + 0.7, GOAL.y - 0.5, 1.3)))
+    b = method.describe(render(GOAL))
+    forward, backward = method.home(a, b).diagnostics, method.home(b, a).diagnostics
+    alpha, psi = forward["alpha"], forward["psi"]
+    assert angular_error(backward["psi"], -psi) < 1e-9
+    assert angular_error(backward["alpha"], alpha - psi + math.pi) < 1e-9
+
+
+def test_fine_search_refines_within_one_step_and_never_costs_more():
+    coarse_only, fine = MinWarping(fine_search=False), MinWarping()
+    current = fine.describe(render(Pose(GOAL.x - 0.9, GOAL.y + 0.4, -0.7)))
+    stack = fine.quantized_stack(current, fine.describe(render(GOAL)), "numba")
+    cost_c, alpha_c, psi_c, _ = coarse_only.search(stack)
+    cost_f, alpha_f, psi_f, _ = fine.search(stack)
+    assert alpha_c % 3 == psi_c % 3 == 0
+    assert cost_f <= cost_c
+    assert abs(alpha_f - alpha_c) <= 2 and abs(psi_f - psi_c) <= 2
 
 
 def test_magnification_matrix():
@@ -148,13 +229,13 @@ def test_a_current_view_turned_on_the_spot_keeps_the_right_direction(rotation_de
     assert rotation_error is not None and rotation_error <= STEP
 
 
-@pytest.mark.parametrize("k", [1, 13, 48, 95])
-def test_psi_recovers_a_roll_by_whole_steps_without_a_direction(k):
-    method = MinWarping()
+@pytest.mark.parametrize(("k", "fine_search"), [(3, False), (39, False), (1, True), (143, True)])
+def test_psi_recovers_a_roll_without_a_direction(k, fine_search):
+    method = MinWarping(fine_search=fine_search)
     goal_view = render(GOAL)
-    # canonical columns are ccw: rolling the image right by 3 columns = turning cw by one step
-    estimate = method.home(method.describe(rolled(goal_view, 3 * k)), method.describe(goal_view))
-    assert angular_error(estimate.rotation, -k * STEP) < 1e-9
+    # canonical columns are ccw: rolling the image right by k columns = turning cw by k columns
+    estimate = method.home(method.describe(rolled(goal_view, k)), method.describe(goal_view))
+    assert angular_error(estimate.rotation, -k * COLUMN) < 1e-9
     assert estimate.angle is None  # a pure rotation: no (alpha, psi) explains it better
 
 
@@ -219,7 +300,7 @@ def test_a_textureless_view_gives_no_estimate_and_no_nan():
 @pytest.mark.parametrize(("edge_filter", "rows"), [(True, 15), (False, 16)])
 def test_describe_gives_the_magnified_band_stack(edge_filter, rows):
     features = MinWarping(edge_filter=edge_filter).describe(render(GOAL))
-    assert features.shape == (5, rows, 96) and features.dtype == np.float32
+    assert features.shape == (5, rows, 288) and features.dtype == np.float32
     assert np.all(np.isfinite(features))
 
 
@@ -228,6 +309,8 @@ def test_registered_with_moller_defaults():
     assert isinstance(method, MinWarping)
     np.testing.assert_allclose(method.scales[[0, 4, 8]], [0.5, 1.0, 2.0])
     assert (method.distance, method.edge_filter) == ("nsad", True)
+    assert (method.n_columns, method.columns_per_step, method.band_columns) == (96, 3, 288)
+    assert method.double_search and method.fine_search
 
 
 @pytest.mark.parametrize(
@@ -239,6 +322,8 @@ def test_registered_with_moller_defaults():
         {"n_columns": 2},
         {"n_rows": 1},
         {"distance": "ncc"},
+        {"columns_per_step": 0},
+        {"n_columns": 95},
     ],
 )
 def test_bad_parameters_are_config_errors(params):

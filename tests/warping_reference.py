@@ -1,7 +1,7 @@
 """The direct 1-D warping search, the reference of :mod:`homebench.methods.warping_search`:
 every (rho, alpha, psi) hypothesis warped and compared on its own, with ``np.interp``.
 
-Shared by tests/test_warping.py and benchmarks/bench_warping_floor.py.
+Shared by tests/test_warping.py and benchmarks/bench_warping.py.
 """
 
 from __future__ import annotations

@@ -16,17 +16,28 @@ Implementation (the paper's two phases):
    (``n_scales = 2h + 1`` planes); magnified band images are made in ``describe``, once per
    image. The column distance (``distance``) and the vertical edge filter before it
    (``edge_filter``) are Möller's (see below).
-2. **Search**: for every (alpha, psi) in whole columns and every goal column, the minimum of D
-   over the (current column, scale plane) pairs that some ``rho >= 0`` produces (current column
-   and scale quantised to the nearest column / plane; scales beyond ``max_scale`` are not
-   searched), summed over the goal columns; the best (alpha, psi) wins and
-   ``beta = alpha - psi + pi``. Möller's double search (snapshot and current view swapped) and
-   fine search are not implemented.
+2. **Search**: for every (alpha, psi) step (``n_columns`` steps a turn, ``columns_per_step``
+   band columns each) and every goal column of the band, the minimum of D over the (current
+   column, scale plane) pairs that some ``rho >= 0`` produces (current column and scale
+   quantised to the nearest column / plane; scales beyond ``max_scale`` are not searched),
+   summed over the goal columns; the best (alpha, psi) wins and ``beta = alpha - psi + pi``.
+3. **Double search** (Möller's, ``double_search``): the same search on the stack of the swapped
+   views (goal <-> current: ``D'[k, i, j] = D[n_scales - 1 - k, j, i]``), whose parameters
+   ``(alpha', psi') = (alpha - psi + pi, -psi)`` describe the same movement; the two costs are
+   added at corresponding parameters before the best is taken.
+4. **Fine search** (Möller's, ``fine_search``): every (alpha, psi) within ``columns_per_step -
+   1`` band columns of the best step is evaluated at full band resolution (both views with the
+   double search); the lowest cost wins (ties: the first in psi-major, alpha-minor order).
 
-For speed the admissible (y, plane) pairs of each ``x`` are grouped into runs of consecutive
-columns on one plane, and the minimum of D over every run length is precomputed (a running
-minimum along the current columns), so each (alpha, psi, goal column) needs one look-up per run
-instead of one per admissible column.
+**Integers.** As in Möller's SIMD code the stack is kept in 16 bits: each pair's float stack
+is scaled so its largest entry is 65535 and rounded (``quantize``; a relative step of 1.5e-5 of
+the pair's largest distance), costs are exact integer sums (int64), so ties and the optimum
+do not depend on summation order. The search runs in compiled kernels
+(:mod:`homebench.methods.min_warping_kernels`, numba: goal column first, the running minima of
+all alphas of one (goal column, psi) in one vector; each run of consecutive admissible current
+columns on one plane answered by two look-ups in a table of windowed minima);
+:func:`reference_costs` and :meth:`MinWarping.distance_stack` are the pure-numpy reading they
+are tested against (``home(..., engine="numpy")`` gives the same estimate).
 
 **Column distances.** For columns a, b (vectors over the band's rows): ``ssd`` = sum (a - b)**2,
 ``sad`` = sum |a - b|; a leading ``z`` subtracts each column's mean first (the distance is then
@@ -44,8 +55,8 @@ the others here are the plain, zero-mean and normalised variants of the two sums
 No direction without evidence (a reading): every (alpha, psi) can explain a pure rotation (y = x
 on the plane sigma = 1), so when no (alpha, psi) beats the best pure rotation, alpha is not
 determined (all alphas tie) and the estimate has ``angle=None`` (counted as "no estimate") but
-keeps the rotation; "beats" means by more than a relative ``TIE_TOLERANCE`` (rounding). A
-texture-less band gives :meth:`HomingEstimate.none`.
+keeps the rotation; "beats" means a strictly lower integer cost than the best pure rotation
+over the psi values searched. A texture-less band gives :meth:`HomingEstimate.none`.
 """
 
 from __future__ import annotations
@@ -55,12 +66,12 @@ from functools import lru_cache
 from typing import ClassVar, Literal
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import NDArray
 
 from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, wrap_angle
 from homebench.imaging.horizon import band_elevations, horizon_band
+from homebench.methods import min_warping_kernels as kernels
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.params import check_choices, documented, param
 from homebench.methods.registry import register
@@ -69,11 +80,12 @@ from homebench.methods.warping import is_flat
 FloatArray = NDArray[np.float64]
 F32Array = NDArray[np.float32]
 IntArray = NDArray[np.intp]
+I64Array = NDArray[np.int64]
+U16Array = NDArray[np.uint16]
 
-#: rho samples per goal column when tracing its admissible (current column, scale) pairs.
-_RHO_SAMPLES = 4001
-#: Relative margin by which the best warp must beat the best pure rotation to give a direction.
-TIE_TOLERANCE = 1e-9
+#: rho samples per band column (over rho in [0, 1 + max_scale]) when tracing admissible pairs.
+_RHO_SAMPLES_PER_COLUMN = 40
+STACK_MAX = kernels.STACK_MAX
 
 ColumnDistance = Literal["ssd", "sad", "zssd", "zsad", "nssd", "nsad", "znssd", "znsad"]
 
@@ -120,73 +132,182 @@ def column_distances(goal: FloatArray, current: FloatArray, distance: ColumnDist
 
 
 @dataclass(frozen=True)
-class SearchRuns:
-    """Admissible (current column, scale plane) pairs of each goal column, as runs.
+class SearchTemplate:
+    """Admissible (scale plane, current offset) pairs of every goal offset x, x-major.
 
-    Goal column offsets ``x`` (columns from alpha, shape (n_columns,)) are sorted by decreasing
-    number of runs ``count``; run q of row r covers current offsets ``start[r, q] ..
-    start[r, q] + length[r, q] - 1`` (mod n, columns from alpha) on scale plane ``plane[r, q]``
-    (0 .. n_scales - 1, sigma increasing). Arrays are (n_columns, max runs); entries with
-    ``q >= count[r]`` are unused.
+    Goal offset x (columns from alpha, 0 .. n - 1) may be seen at current offset ``y[e]``
+    (columns from alpha) on plane ``plane[e]`` (0 .. n_scales - 1, sigma increasing) for e in
+    ``x_start[x] .. x_start[x + 1] - 1``; shapes (n + 1,), (E,), (E,). The same pairs as runs
+    of consecutive current offsets on one plane (circular), for the compiled search: run q of x
+    (``run_start[x] <= q < run_start[x + 1]``) covers ``run_length[q]`` offsets from
+    ``run_y[q]`` on ``run_plane[q]``; ``run_level[q] = floor(log2 run_length[q])`` and
+    ``run_shift[q] = run_length[q] - 2**run_level[q]`` (two overlapping power-of-two windows).
     """
 
-    x: IntArray
-    count: IntArray
-    length: IntArray
+    x_start: IntArray
     plane: IntArray
-    start: IntArray
+    y: IntArray
+    run_start: IntArray
+    run_plane: IntArray
+    run_y: IntArray
+    run_length: IntArray
+
+    @property
+    def run_level(self) -> IntArray:
+        """floor(log2 run_length) of each run, (R,)."""
+        return np.floor(np.log2(self.run_length)).astype(np.intp)
+
+    @property
+    def run_shift(self) -> IntArray:
+        """run_length - 2**run_level of each run, (R,): the second window's offset."""
+        return self.run_length - (1 << self.run_level)
 
 
 @lru_cache(maxsize=8)
-def search_runs(n_columns: int, n_scales: int, max_scale: float) -> SearchRuns:
-    """Trace every goal column's admissible pairs over rho >= 0 and group them into runs."""
+def search_template(n_columns: int, n_scales: int, max_scale: float) -> SearchTemplate:
+    """Trace every goal column's admissible pairs over rho >= 0 (see the module docstring)."""
     h = (n_scales - 1) // 2
-    rho = np.linspace(0.0, 1.0 + max_scale, _RHO_SAMPLES)
-    step = TWO_PI / n_columns
-    per_x: list[list[tuple[int, int, int]]] = []
-    for x_col in range(n_columns):
-        x = x_col * step
-        distance2 = 1.0 - 2.0 * rho * np.cos(x) + rho**2
-        ok = distance2 > 1e-12
-        y = np.arctan2(np.sin(x), np.cos(x) - rho[ok])
-        m = np.rint(-0.5 * h * np.log(distance2[ok]) / np.log(max_scale)).astype(np.intp)
-        inside = np.abs(m) <= h
-        y_col = np.rint(y[inside] / step).astype(np.intp) % n_columns
-        pairs = np.unique(np.stack([m[inside] + h, y_col], axis=1), axis=0)
-        per_x.append(_runs(pairs, n_columns))
-    count = np.array([len(r) for r in per_x])
-    order = np.argsort(-count, kind="stable")
-    table = np.zeros((n_columns, int(count.max()), 3), dtype=np.intp)
-    for row, x_col in enumerate(order):
-        table[row, : count[x_col]] = per_x[x_col]
-    return SearchRuns(order, count[order], table[..., 0], table[..., 1], table[..., 2])
+    rho = np.linspace(0.0, 1.0 + max_scale, _RHO_SAMPLES_PER_COLUMN * n_columns + 1)[None, :]
+    x = (TWO_PI / n_columns) * np.arange(n_columns)[:, None]
+    distance2 = 1.0 - 2.0 * rho * np.cos(x) + rho**2  # (n_columns, samples)
+    x_col, sample = np.nonzero(distance2 > 1e-12)
+    distance2 = distance2[x_col, sample]
+    y = np.arctan2(np.sin(x[x_col, 0]), np.cos(x[x_col, 0]) - rho[0, sample])
+    m = np.rint(-0.5 * h * np.log(distance2) / np.log(max_scale)).astype(np.intp)
+    inside = np.abs(m) <= h
+    y_col = np.rint(y[inside] * (n_columns / TWO_PI)).astype(np.intp) % n_columns
+    keys = np.unique((x_col[inside] * n_scales + m[inside] + h) * n_columns + y_col)
+    x_of, plane, y_of = (
+        keys // (n_scales * n_columns),
+        keys // n_columns % n_scales,
+        keys % n_columns,
+    )
+    counts = np.bincount(x_of, minlength=n_columns)
+    starts = _starts(counts.tolist())
+    per_x = [np.stack([plane, y_of], axis=1)[starts[i] : starts[i + 1]] for i in range(n_columns)]
+    runs = [_runs(pairs, n_columns) for pairs in per_x]
+    run_table = np.array([run for x_runs in runs for run in x_runs], dtype=np.intp)
+    return SearchTemplate(
+        starts, plane, y_of, _starts([len(x_runs) for x_runs in runs]), *run_table.T
+    )
+
+
+def _starts(counts: list[int]) -> IntArray:
+    """Offsets (len(counts) + 1,) of consecutive groups of the given sizes."""
+    return np.concatenate([[0], np.cumsum(counts)]).astype(np.intp)
 
 
 def _runs(pairs: IntArray, n_columns: int) -> list[tuple[int, int, int]]:
-    """Group sorted unique (plane, column) pairs into circular runs (length, plane, start)."""
+    """Group sorted unique (plane, column) pairs into circular runs (plane, start, length)."""
     runs: list[tuple[int, int, int]] = []
     for plane in np.unique(pairs[:, 0]):
         cols = pairs[pairs[:, 0] == plane, 1]
-        breaks = np.flatnonzero(np.diff(cols) != 1) + 1
-        groups = [list(g) for g in np.split(cols, breaks)]
+        groups = [list(g) for g in np.split(cols, np.flatnonzero(np.diff(cols) != 1) + 1)]
         if len(groups) > 1 and groups[0][0] == 0 and groups[-1][-1] == n_columns - 1:
             groups[0] = groups.pop() + groups[0]  # the run wraps past the last column
-        runs.extend((len(g), int(plane), int(g[0])) for g in groups)
+        runs.extend((int(plane), int(g[0]), len(g)) for g in groups)
     return runs
+
+
+def quantize(stack: F32Array) -> U16Array:
+    """``stack`` scaled so its largest entry is STACK_MAX and rounded: uint16, same shape."""
+    top = float(stack.max())
+    scale = STACK_MAX / top if top > 0 else 0.0
+    return np.rint(stack.astype(np.float64) * scale).astype(np.uint16)
+
+
+def reference_costs(
+    stack: NDArray[np.generic], template: SearchTemplate, alphas: IntArray, psis: IntArray
+) -> NDArray[np.generic]:
+    """Pure-numpy search: cost (len(alphas), len(psis)) of (alpha, psi) in columns on ``stack``
+    (n_scales, n, n) [plane, goal col, current col]; every admissible pair looked up. Integer
+    stacks sum in int64."""
+    n = stack.shape[1]
+    rows = np.repeat(np.arange(n), np.diff(template.x_start))  # goal offset of each pair
+    firsts = template.x_start[:-1][np.diff(template.x_start) > 0]
+    kind = np.int64 if np.issubdtype(stack.dtype, np.integer) else np.float64
+    cost = np.empty((len(alphas), len(psis)), dtype=kind)
+    for row, alpha in enumerate(alphas):
+        current = (template.y[:, None] + alpha - np.asarray(psis)[None, :]) % n
+        values = stack[template.plane[:, None], (rows[:, None] + alpha) % n, current]
+        cost[row] = np.minimum.reduceat(values, firsts, axis=0).sum(axis=0, dtype=kind)
+    return cost
+
+
+def swapped(stack: NDArray[np.generic]) -> NDArray[np.generic]:
+    """The stack of the swapped views (goal <-> current): ``D'[k, i, j] = D[K - 1 - k, j, i]``."""
+    return stack[::-1].transpose(0, 2, 1)
+
+
+Engine = Literal["numba", "numpy"]
+
+
+class _NumpySearch:
+    """Costs by :func:`reference_costs` (the pure-numpy reading) on a stack (K, n, n)."""
+
+    def __init__(self, stack: U16Array, template: SearchTemplate, step: int) -> None:
+        self.stack, self.template, self.step = stack, template, step
+
+    def coarse(self, swap: bool) -> I64Array:
+        grid = self.step * np.arange(self.stack.shape[1] // self.step)
+        return reference_costs(self._source(swap), self.template, grid, grid)
+
+    def at(self, alphas: IntArray, psis: IntArray, swap: bool) -> I64Array:
+        n, source = self.stack.shape[1], self._source(swap)
+        pairs = zip(alphas % n, psis % n, strict=True)
+        return np.array([reference_costs(source, self.template, [a], [p])[0, 0] for a, p in pairs])
+
+    def _source(self, swap: bool) -> U16Array:
+        return swapped(self.stack) if swap else self.stack
+
+
+class _CompiledSearch:
+    """Costs by the numba kernels; the search tables of each view are built once."""
+
+    def __init__(self, stack: U16Array, template: SearchTemplate, step: int) -> None:
+        self.stack, self.step, self.n = stack, step, stack.shape[1]
+        self.runs = (
+            template.run_start,
+            template.run_plane,
+            template.run_y,
+            template.run_level,
+            template.run_shift,
+        )
+        self.levels = int(template.run_level.max()) + 1
+        self.tables: dict[bool, U16Array] = {}
+
+    def coarse(self, swap: bool) -> I64Array:
+        by_s = kernels.coarse_costs(self._table(swap), self.step, *self.runs)
+        a = np.arange(self.n // self.step)[:, None]
+        return by_s[(a - a.T) % by_s.shape[0], a]  # by_s is [alpha - psi, alpha]
+
+    def at(self, alphas: IntArray, psis: IntArray, swap: bool) -> I64Array:
+        return kernels.table_costs(self._table(swap), self.step, *self.runs, alphas, psis)
+
+    def _table(self, swap: bool) -> U16Array:
+        if swap not in self.tables:
+            self.tables[swap] = kernels.search_table(self.stack, self.step, swap, self.levels)
+        return self.tables[swap]
 
 
 @register
 @documented
 @dataclass(frozen=True)
 class MinWarping:
-    """Min-warping; defaults: Möller's (96 x 96 alpha, psi steps, 9 scale planes up to a factor
-    2, NSAD on vertically edge-filtered columns), on a band of 16 rows from -15 to +15 deg."""
+    """Min-warping; defaults: Möller's (288 band columns searched in 96 x 96 alpha, psi steps,
+    double and fine search, 9 scale planes up to a factor 2, NSAD on vertically edge-filtered
+    columns), on a band of 16 rows from -15 to +15 deg."""
 
     name: ClassVar[str] = "min-warping"
     image_kind: ClassVar[ImageKind] = "unfolded"
 
-    n_columns: int = param(
-        96, "Columns of the band; alpha and psi are searched in whole columns (Möller: 96)."
+    n_columns: int = param(96, "Search steps of alpha and psi over a full turn (Möller: 96).")
+    columns_per_step: int = param(
+        3,
+        "Band columns per alpha / psi step: the band has n_columns * columns_per_step columns "
+        "(the fine search moves by single columns).",
+        reading="Möller's SIMD code searches 288-column panoramas in 96 steps (3 columns a "
+        "step); homebench searched a 96-column band before (columns_per_step=1)",
     )
     n_rows: int = param(
         16,
@@ -217,17 +338,39 @@ class MinWarping:
         "any offset of a column.",
         reading="the preprocessing of Möller's default NSAD, as distance",
     )
+    double_search: bool = param(
+        True,
+        "Search again with goal and current view swapped and add the two costs at corresponding "
+        "parameters (alpha' = alpha - psi + pi, psi' = -psi); needs an even n_columns.",
+        reading="Möller's double search; his code averages the two 16-bit match arrays with "
+        "rounding, the sum here keeps every tie exact",
+    )
+    fine_search: bool = param(
+        True,
+        "Refine the best (alpha, psi) step: every offset of up to columns_per_step - 1 band "
+        "columns in alpha and psi around it (both views with double_search).",
+        reading="Möller's fine search over the whole range to the neighbouring steps (his "
+        "'surround' variant, half that range, is not offered)",
+    )
 
     def __post_init__(self) -> None:
         check_choices(self)
-        if self.n_columns < 4 or self.n_rows < 1 + self.edge_filter:
+        if self.n_columns < 4 or self.columns_per_step < 1 or self.n_rows < 1 + self.edge_filter:
             raise ConfigError(
-                "min-warping: need n_columns >= 4 and n_rows >= 1 (>= 2 with edge_filter)"
+                "min-warping: need n_columns >= 4, columns_per_step >= 1 and n_rows >= 1 "
+                "(>= 2 with edge_filter)"
             )
+        if self.double_search and self.n_columns % 2:
+            raise ConfigError("min-warping: double_search needs an even n_columns")
         if not -90.0 < self.band_bottom_deg < 0.0 < self.band_top_deg < 90.0:
             raise ConfigError("min-warping: the band must contain the horizon (bottom < 0 < top)")
         if self.n_scales < 3 or self.n_scales % 2 == 0 or not self.max_scale > 1.0:
             raise ConfigError("min-warping: n_scales must be odd >= 3 and max_scale > 1")
+
+    @property
+    def band_columns(self) -> int:
+        """Columns of the band: n_columns * columns_per_step."""
+        return self.n_columns * self.columns_per_step
 
     @property
     def scales(self) -> FloatArray:
@@ -235,11 +378,16 @@ class MinWarping:
         h = (self.n_scales - 1) // 2
         return self.max_scale ** (np.arange(-h, h + 1) / h)
 
+    @property
+    def template(self) -> SearchTemplate:
+        """The admissible pairs of every goal column of the band (cached per shape)."""
+        return search_template(self.band_columns, self.n_scales, self.max_scale)
+
     def describe(self, view: View) -> F32Array:
         """Band (edge-filtered: rows - 1 rows) magnified by sigma = 1 .. max_scale: shape
-        (h + 1, rows, n_columns), float32."""
+        (h + 1, rows, band_columns), float32."""
         bottom, top = np.radians(self.band_bottom_deg), np.radians(self.band_top_deg)
-        band = horizon_band(view.image, view.geometry, bottom, top, self.n_rows, self.n_columns)
+        band = horizon_band(view.image, view.geometry, bottom, top, self.n_rows, self.band_columns)
         elevations = band_elevations(bottom, top, self.n_rows)
         if self.edge_filter:
             band = band[:-1] - band[1:]
@@ -249,7 +397,7 @@ class MinWarping:
         return np.stack(stack).astype(np.float32)
 
     def distance_stack(self, current: F32Array, goal: F32Array) -> F32Array:
-        """Scale-plane stack D (n_scales, n_columns, n_columns): [plane, goal col, current col]."""
+        """Scale-plane stack D (n_scales, n, n): [plane, goal col, current col], pure numpy."""
         h = (self.n_scales - 1) // 2
         goal64, current64 = goal.astype(np.float64), current.astype(np.float64)
         planes = [
@@ -261,60 +409,80 @@ class MinWarping:
         ]
         return np.stack(planes).astype(np.float32)
 
-    def costs(self, distances: F32Array) -> FloatArray:
-        """Min-warping cost of every (alpha, psi) in columns: shape (n_columns, n_columns)."""
-        n = self.n_columns
-        runs = search_runs(n, self.n_scales, self.max_scale)
-        # Reversed, tripled current-column axis: wide[..., u] = D[..., (n - u) % n].
-        wide = distances[..., (n - np.arange(3 * n)) % n]
-        # table[L - 1, k, i, w] = min over t < L of D[k, i, (t - w) % n], w in [0, 2n)
-        table = np.empty((int(runs.length.max()),) + distances.shape[:2] + (2 * n,), np.float32)
-        table[0] = wide[..., n : 3 * n]
-        for t in range(1, table.shape[0]):
-            np.minimum(table[t - 1], wide[..., n - t : 3 * n - t], out=table[t])
-        windows = sliding_window_view(table, n, axis=-1)  # (L, k, i, w, psi)
-        a = np.arange(n)[:, None]  # alpha column; index arrays below are (alpha, x)
-        best = np.empty((n, n, n), dtype=np.float32)  # (alpha, x, psi)
-        for q in range(runs.length.shape[1]):
-            k = int(np.count_nonzero(runs.count > q))  # rows are sorted by run count
-            # goal column i = x + alpha; current column j = y + alpha - psi, y = start + t;
-            # window w = -(start + alpha) reads D[..., (t + start + alpha - psi) % n] at psi.
-            rows = windows[
-                runs.length[:k, q] - 1,
-                runs.plane[:k, q],
-                (runs.x[:k] + a) % n,
-                -(runs.start[:k, q] + a) % n,
-            ]
-            if q == 0:
-                best[...] = rows
-            else:
-                np.minimum(best[:, :k], rows, out=best[:, :k])
-        return best.sum(axis=1, dtype=np.float64)
+    def quantized_stack(self, current: F32Array, goal: F32Array, engine: Engine) -> U16Array:
+        """The stack D in 16 bits (see the module docstring), by numpy or the compiled kernel."""
+        if engine == "numpy":
+            return quantize(self.distance_stack(current, goal))
+        if self.distance.startswith("z"):
+            goal = goal - goal.mean(axis=1, keepdims=True)
+            current = current - current.mean(axis=1, keepdims=True)
+        squared = self.distance.endswith("ssd")
+        sizes = [np.sum(v * v if squared else np.abs(v), axis=1) for v in (goal, current)]
+        normalized = self.distance.lstrip("z").startswith("n")
+        planes = kernels.distance_planes(goal, current, *sizes, squared, normalized)
+        return kernels.quantize(planes)
 
-    def home(self, current: F32Array, goal: F32Array) -> HomingEstimate:
-        """Home direction beta = alpha - psi + pi at the best (alpha, psi)."""
+    def searcher(self, stack: U16Array, engine: Engine) -> _NumpySearch | _CompiledSearch:
+        """Cost evaluation on ``stack`` by the compiled kernels or the numpy reference."""
+        kind = _CompiledSearch if engine == "numba" else _NumpySearch
+        return kind(stack, self.template, self.columns_per_step)
+
+    def coarse(self, stack: U16Array, engine: Engine, swap: bool = False) -> I64Array:
+        """Cost of every (alpha, psi) step on ``stack`` (or its swapped reading): shape
+        (n_columns, n_columns), [alpha step, psi step]."""
+        return self.searcher(stack, engine).coarse(swap)
+
+    def search(self, stack: U16Array, engine: Engine = "numba") -> tuple[int, int, int, IntArray]:
+        """Best (cost, alpha, psi) in band columns, and the psi columns searched (m,)."""
+        n, step, columns = self.n_columns, self.columns_per_step, self.band_columns
+        searcher = self.searcher(stack, engine)
+        cost = searcher.coarse(False)
+        if self.double_search:
+            a = np.arange(n)[:, None]
+            cost = cost + searcher.coarse(True)[(a - a.T + n // 2) % n, -a.T % n]
+        a, p = np.unravel_index(int(np.argmin(cost)), cost.shape)
+        best, alpha, psi = int(cost[a, p]), step * int(a), step * int(p)
+        psis = step * np.arange(n)
+        if self.fine_search and step > 1:
+            d_psi, d_alpha = np.divmod(np.arange((2 * step - 1) ** 2), 2 * step - 1)
+            d_psi, d_alpha = d_psi - (step - 1), d_alpha - (step - 1)
+            costs = self.costs_at(searcher, alpha + d_alpha, psi + d_psi)  # psi-major order
+            pick = int(np.argmin(costs))
+            best, alpha, psi = int(costs[pick]), alpha + int(d_alpha[pick]), psi + int(d_psi[pick])
+            psis = np.concatenate([psis, (psi - d_psi[pick] + np.arange(1 - step, step)) % columns])
+        return best, alpha % columns, psi % columns, psis
+
+    def costs_at(
+        self, searcher: _NumpySearch | _CompiledSearch, alphas: IntArray, psis: IntArray
+    ) -> I64Array:
+        """Costs (m,) of (alpha, psi) pairs in band columns (both views with double_search)."""
+        costs = searcher.at(alphas, psis, False)
+        if self.double_search:
+            costs = costs + searcher.at(alphas - psis + self.band_columns // 2, -psis, True)
+        return costs
+
+    def home(self, current: F32Array, goal: F32Array, engine: Engine = "numba") -> HomingEstimate:
+        """Home direction beta = alpha - psi + pi at the best (alpha, psi); ``engine``: the
+        compiled kernels or the pure-numpy reference (same result)."""
         if current.shape != goal.shape:
             raise ValueError("min-warping: features of different shapes")
         if is_flat(current[0]) or is_flat(goal[0]):
-            return HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
-        n = self.n_columns
-        distances = self.distance_stack(current, goal)
-        cost = self.costs(distances)
-        a, p = np.unravel_index(int(np.argmin(cost)), cost.shape)
-        unit = (self.n_scales - 1) // 2
-        i = np.arange(n)
-        rotation_only = distances[unit, i[None, :], (i[None, :] - i[:, None]) % n].sum(
-            axis=1, dtype=np.float64
-        )  # (psi,)
-        psi_only = int(np.argmin(rotation_only))
-        best = float(cost[a, p])
-        if best >= rotation_only[psi_only] * (1.0 - TIE_TOLERANCE):
+            return HomingEstimate.none(n_landmarks=self.band_columns, reason="no texture")
+        n = self.band_columns
+        stack = self.quantized_stack(current, goal, engine)
+        best, a, p, psis = self.search(stack, engine)
+        i, unit = np.arange(n), (self.n_scales - 1) // 2
+        # pure rotations by the searched psis (m,): y = x on the unit plane, both views alike
+        rotation = stack[unit, i[None, :], (i[None, :] - psis[:, None]) % n].sum(axis=1)
+        rotation *= 1 + self.double_search
+        psi_only = int(psis[np.argmin(rotation)])
+        if best >= rotation.min():
             psi = float(wrap_angle(TWO_PI * psi_only / n))
             return HomingEstimate(
                 angle=None,
                 rotation=psi,
                 n_landmarks=n,
-                score=float(rotation_only[psi_only]),
+                score=float(rotation.min()),
                 diagnostics={"alpha": None, "psi": psi},
             )
         alpha, psi = TWO_PI * a / n, float(wrap_angle(TWO_PI * p / n))
@@ -322,6 +490,6 @@ class MinWarping:
             angle=float(wrap_angle(alpha - psi + np.pi)),
             rotation=psi,
             n_landmarks=n,
-            score=best,
+            score=float(best),
             diagnostics={"alpha": float(alpha), "psi": psi},
         )
