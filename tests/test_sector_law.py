@@ -15,6 +15,7 @@ import pytest
 from homebench.geometry import PanoramaGeometry, Pose, angle_diff, wrap_angle
 from homebench.methods.sector_law import (
     bearings,
+    first_longest_rotation,
     goal_reached,
     heading_change,
     longest_common_order,
@@ -158,6 +159,18 @@ def test_circular_lcs_matches_brute_force_on_random_permutations():
         kept = longest_common_order(first, second)
         assert len(kept) == best
         assert _same_circular_order(set(kept), first, second)
+
+
+def test_compiled_rotation_search_is_the_first_longest_rotation():
+    # Reference: the LIS of every rotation in Python, the first longest one wins.
+    rng = np.random.default_rng(11)
+    for n in (1, 2, 5, 40, 150):
+        for _ in range(5):
+            order = np.argsort(np.arange(n) + rng.normal(0.0, 3.0, n)).astype(np.int64)
+            start = rng.integers(n)
+            values = np.roll(order, start)
+            lengths = [len(longest_increasing(np.roll(values, -k).tolist())) for k in range(n)]
+            assert first_longest_rotation(values) == int(np.argmax(lengths))
 
 
 def test_order_filter_keeps_order_across_minus_pi_and_drops_a_swap():
