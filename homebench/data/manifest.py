@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+import functools
 import math
 import posixpath
 import re
@@ -503,8 +504,23 @@ _Dumper.add_representer(list, _represent_list)
 
 
 def load_manifest(path: Path) -> Manifest:
-    """Read and validate a manifest file; ConfigError names the file, line and key path."""
-    return load_model(Manifest, Path(path), what="manifest")
+    """Read and validate a manifest file; ConfigError names the file, line and key path.
+
+    A file read before in this process and unchanged since (same inode, size and modification
+    time) is not parsed again (manifests are frozen): runs and their workers look the same
+    manifests up many times."""
+    path = Path(path)
+    try:
+        stat = path.stat()
+    except OSError:
+        return load_model(Manifest, path, what="manifest")  # its error names the file
+    return _load_unchanged(path, stat.st_ino, stat.st_size, stat.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=64)
+def _load_unchanged(path: Path, inode: int, size: int, mtime_ns: int) -> Manifest:
+    """The manifest at ``path`` as of the file's (``inode``, ``size``, ``mtime_ns``)."""
+    return load_model(Manifest, path, what="manifest")
 
 
 def parse_manifest(text: str, origin: str) -> Manifest:

@@ -15,6 +15,10 @@ A run folder is something people share, so reading one must never run code. What
 The file is an uncompressed npz: arrays ``a0``, ``a1``, ... and ``structure`` (the JSON text as
 UTF-8 bytes), loaded with ``allow_pickle=False``. It also holds the feature key, so a file of
 other inputs (or a torn, corrupt or crafted one) is refused and its features recomputed.
+
+A process keeps the files it read last in memory (:data:`RECENT_BYTES` of arrays, keyed by the
+file's path, inode, size and modification time), since a run's home jobs read every current
+view's features once per goal; their arrays are read-only, as they are shared by the calls.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ import dataclasses
 import io
 import json
 import zipfile
+from collections import OrderedDict
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -37,6 +42,8 @@ from homebench.methods.klt_sector import KltFeatures
 from homebench.methods.sift import SiftFeatures
 
 FORMAT = 1
+#: Bytes of feature arrays a process keeps from the files it read last.
+RECENT_BYTES = 128 * 1024 * 1024
 #: homebench's own classes that features may hold.
 BUILT_IN = (SiftFeatures, KltFeatures, PanoramaGeometry, CatadioptricGeometry)
 
@@ -162,13 +169,45 @@ def save_features(path: Path, key: str, features: Any, describe_ms: float) -> No
     write_bytes_atomic(path, buffer.getvalue())
 
 
+class _RecentFiles:
+    """The structure and arrays of the feature files read last, at most ``limit`` bytes of
+    arrays, by path and file identity (a rewritten file is read again)."""
+
+    def __init__(self, limit: int):
+        self.limit, self.size = limit, 0
+        self.files: OrderedDict[tuple, tuple[dict[str, Any], dict[str, np.ndarray], int]] = (
+            OrderedDict()
+        )
+
+    def read(self, path: Path) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+        """The JSON structure and the arrays (read-only) of the file at ``path``."""
+        stat = path.stat()
+        file = (str(path), stat.st_ino, stat.st_size, stat.st_mtime_ns)
+        if file in self.files:
+            self.files.move_to_end(file)
+            structure, arrays, _ = self.files[file]
+            return structure, arrays
+        with np.load(path, allow_pickle=False) as archive:
+            arrays = {name: archive[name] for name in archive.files}
+        structure = json.loads(arrays.pop("structure").tobytes())
+        for array in arrays.values():
+            array.flags.writeable = False
+        nbytes = sum(array.nbytes for array in arrays.values())
+        self.files[file] = (structure, arrays, nbytes)
+        self.size += nbytes
+        while self.size > self.limit:
+            self.size -= self.files.popitem(last=False)[1][2]
+        return structure, arrays
+
+
+_RECENT = _RecentFiles(RECENT_BYTES)
+
+
 def load_features(path: Path, key: str) -> StoredFeatures:
     """The features stored under ``key`` in ``path``; DataError naming the file when it is
     missing, corrupt, of another key or format, or holds anything but plain data."""
     try:
-        with np.load(path, allow_pickle=False) as archive:
-            arrays = {name: archive[name] for name in archive.files}
-        structure = json.loads(arrays.pop("structure").tobytes())
+        structure, arrays = _RECENT.read(Path(path))
         if structure.get("format") != FORMAT or structure.get("key") != key:
             raise ValueError("written for other inputs")
         features = _Decoder(arrays).decode(structure["features"])

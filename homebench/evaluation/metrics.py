@@ -9,11 +9,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:  # imported where tables are made: job workers need the per-pair metrics only
+    import pandas as pd
 
 from homebench.geometry import FloatArray, Grid, angular_error, robot_to_world, world_direction
 
@@ -157,6 +159,8 @@ def ahc_by_distance(
     a = np.asarray(ae, dtype=np.float64).ravel()
     if a.size != np.size(distance_m):
         raise ValueError(f"ae has {a.size} pairs, distance_m {np.size(distance_m)}")
+    import pandas as pd
+
     bins, masks = distance_bins(distance_m, bins_cm)
     stats = pd.DataFrame([_bin_stats(a[mask], missing) for mask in masks])
     return pd.concat([bins, stats], axis=1)
@@ -178,6 +182,8 @@ def distance_bins(
     Returns the bins (columns ``bin``: centre as text or "all", ``centre_cm``, ``low_cm``,
     ``high_cm``; NaN for "all") and the masks, shape (n_bins + 1, n_pairs), in the same order.
     """
+    import pandas as pd
+
     d_cm = 100.0 * np.asarray(distance_m, dtype=np.float64).ravel()
     centres = np.asarray(list(bins_cm), dtype=np.float64)
     if centres.size < 2 or np.any(np.diff(centres) <= 0):

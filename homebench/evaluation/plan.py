@@ -24,6 +24,7 @@ to worker processes or a cluster.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -63,7 +64,7 @@ class MethodSpec:
     compass: str = "none"
     compass_code: str = ""
 
-    @property
+    @functools.cached_property  # hashed once: feature paths and keys ask for it per image
     def key(self) -> str:
         fields = {"method": self.method, "params": dict(self.params), "code": self.code}
         if self.compass != "none":  # keys without a compass stay those of earlier versions
@@ -108,7 +109,7 @@ class DescribeJob:
     method: MethodSpec
     images: tuple[ImageTask, ...]
 
-    @property
+    @functools.cached_property
     def key(self) -> str:
         return stable_hash({"method": self.method.key, "images": [t.inputs for t in self.images]})
 
@@ -125,7 +126,7 @@ class HomeJob:
     style: str | None = None  # the swept world style, None without a sweep
     context: str = ""  # hash of the other views and headings the job reads ("" when none)
 
-    @property
+    @functools.cached_property  # hashes every current view: asked for many times per job
     def key(self) -> str:
         fields = {
             "style": self.style,

@@ -29,6 +29,7 @@ from tqdm import tqdm
 from homebench import __version__
 from homebench.errors import DataError
 from homebench.fileio import atomic_write, write_text_atomic
+from homebench.report import reuse
 from homebench.report.appendix import Appendix, run_appendix
 from homebench.report.captions import add_caption
 from homebench.report.figure_data import (
@@ -37,6 +38,7 @@ from homebench.report.figure_data import (
     image_describe_times,
     pick_goals,
 )
+from homebench.report.figure_files import FigureFiles
 from homebench.report.grid_figures import AE_MAX_DEG, ae_figure, field_figure, grid_pages
 from homebench.report.heatmaps import OVERVIEW_SECTION, heatmap_columns, heatmap_figures
 from homebench.report.markup import FigureEntry, html_report, markdown_report
@@ -64,7 +66,7 @@ from homebench.report.route_report import (
     route_views,
 )
 from homebench.report.run_data import RunData, RunInfo, grid_run, read_run_info
-from homebench.report.style import MethodStyle, method_styles, report_style, save_figure
+from homebench.report.style import MethodStyle, method_styles, report_style
 from homebench.report.tables import TableView, report_views, run_order, write_views
 
 FORMATS = ("pdf", "html", "md")
@@ -276,11 +278,29 @@ def _route_content(info: RunInfo) -> ReportContent:
     )
 
 
+def _closed_loop_content(info: RunInfo) -> ReportContent:
+    from homebench.report.closed_loop_report import (
+        closed_loop_figures,
+        closed_loop_summary,
+        closed_loop_views,
+        load_closed_loop_run,
+    )
+
+    run = load_closed_loop_run(info)
+    views = closed_loop_views(run)
+    figures = partial(closed_loop_figures, run)
+    appendix = run_appendix(info, None)
+    summary = closed_loop_summary(run)
+    return ReportContent(info, summary, views, len(views) - 1, run.warnings, figures, appendix)
+
+
 def load_content(run_dir: Path, max_goals: int | None = None) -> ReportContent:
-    """What the report of ``run_dir`` shows, by the run's kind (grid or route)."""
+    """What the report of ``run_dir`` shows, by the run's kind (grid, route or closed-loop)."""
     info = read_run_info(run_dir)
     if info.kind == "route":
         return _route_content(info)
+    if info.kind == "closed-loop":
+        return _closed_loop_content(info)
     return _grid_content(info, max_goals)
 
 
@@ -307,16 +327,17 @@ def _write_figures(
     entries, files = [], []
     bar = tqdm(content.figures(), desc="report figures", unit="figure", file=sys.stderr,
                disable=not _progress_shown(progress))  # fmt: skip
-    for stem, section, caption, fig in bar:
-        written = save_figure(fig, folder / stem)
-        files += written
-        if content.in_documents(section):
-            entry = FigureEntry(written[0], section, caption, len(entries) + 1)
-            entries.append(entry)
-            if pdf is not None:
-                add_caption(fig, entry.numbered_caption)
-                pdf.savefig(fig)
-        plt.close(fig)
+    with FigureFiles() as figure_files:  # each figure's files written in parallel
+        for stem, section, caption, fig in bar:
+            written = figure_files.save(fig, folder / stem)
+            files += written
+            if content.in_documents(section):
+                entry = FigureEntry(written[0], section, caption, len(entries) + 1)
+                entries.append(entry)
+                if pdf is not None:
+                    add_caption(fig, entry.numbered_caption)
+                    pdf.savefig(fig)
+            plt.close(fig)
     return entries, files
 
 
@@ -343,16 +364,33 @@ def write_report(
     fields and AE maps are drawn for at most ``max_goals`` goals per condition. ``progress``:
     a progress bar over the figures on stderr (only when it is a terminal). Raises DataError
     when the folder is not a run or has no result at all; missing job or trial results
-    otherwise become a warning page (and ``warnings``).
+    otherwise become a warning page (and ``warnings``). A report whose inputs did not change
+    since it was last written there is not written again (:mod:`~homebench.report.reuse`).
     """
     unknown = sorted(set(formats) - set(FORMATS))
     if unknown:
         raise ValueError(f"unknown report format(s) {unknown}; choose from {FORMATS}")
     if max_goals is not None and max_goals < 1:
         raise ValueError(f"max_goals must be at least 1, got {max_goals}")
+    folder = Path(out_dir) if out_dir is not None else Path(run_dir) / REPORT_FOLDER
+    arguments = {"formats": sorted(set(formats)), "max_goals": max_goals,
+                 "folder": str(folder.resolve())}  # fmt: skip
+    key = reuse.report_key(Path(run_dir), folder, arguments)
+    done = reuse.reusable(folder, key)
+    if done is not None:
+        return ReportOutcome(*done)
+    reuse.forget(folder)
+    outcome = _build_report(run_dir, formats, folder, max_goals, progress)
+    reuse.remember(folder, key, outcome.files, outcome.warnings)
+    return outcome
+
+
+def _build_report(
+    run_dir: Path, formats: Sequence[str], folder: Path, max_goals: int | None, progress: bool
+) -> ReportOutcome:
+    """Write the report (see :func:`write_report`) under ``folder``."""
     content = load_content(run_dir, max_goals)
     run = content.run
-    folder = Path(out_dir) if out_dir is not None else run.run_dir / REPORT_FOLDER
     folder.mkdir(parents=True, exist_ok=True)
     tables = write_views(content.views, folder / "tables")
     documents = []

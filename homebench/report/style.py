@@ -218,8 +218,13 @@ def save_figure(fig: Figure, stem_path: Path) -> list[Path]:
     always gives the same bytes.
     """
     freeze_layout(fig)
+    return [_save(fig, path, path.suffix[1:]) for path in figure_paths(stem_path)]
+
+
+def figure_paths(stem_path: Path) -> list[Path]:
+    """The files :func:`save_figure` writes for ``stem_path``, in order."""
     stem = Path(stem_path)
-    return [_save(fig, stem.parent / f"{stem.name}.{suffix}", suffix) for suffix in SAVE_ARGS]
+    return [stem.parent / f"{stem.name}.{suffix}" for suffix in SAVE_ARGS]
 
 
 def freeze_layout(fig: Figure) -> None:

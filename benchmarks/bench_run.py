@@ -1,0 +1,121 @@
+"""The overhead of whole runs: CPU per pair of a run against the bare method, --jobs 1 and 2.
+
+    python benchmarks/bench_run.py                        # 4 goals of synth-original
+    python benchmarks/bench_run.py --goals 10 --methods warping sift
+
+For each method, in this one process: the floor, the method alone (``describe`` of every image
+the run needs once, then ``home`` of every pair with what it needs beyond the two views; images
+decoded and one warm-up call made beforehand, not timed), as process CPU per pair; then fresh
+runs of the same plan (``run_plan`` in a new folder, workers included: the CPU of this process
+and its waited-for children per pair) with --jobs 1 and --jobs 2. Ratios: the run's CPU per pair
+over the floor's (target 1.15), and --jobs 1 wall time over --jobs 2's (target 1.8 on an idle
+2-core machine). The load average before and after each line says how busy the machine was.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import tempfile
+import time
+from pathlib import Path
+
+import cv2
+
+from homebench.config import RunConfig
+from homebench.data.catalog import ensure_generated
+from homebench.evaluation.jobs import _GridViews
+from homebench.evaluation.plan import HomeJob, ImageTask, make_plan
+from homebench.evaluation.runner import Execution, run_plan
+from homebench.evaluation.sources import load_view, open_source, prepare_sources
+
+METHODS = ("warping", "min-warping", "sift", "klt-sector")
+DATABASE = "synth-original"
+
+
+def _config(output: Path, method: str, goals: int) -> RunConfig:
+    return RunConfig.model_validate(
+        {
+            "output": str(output),
+            "databases": {"original": DATABASE},
+            "conditions": ["original-original"],
+            "goals": {"random": goals, "seed": 1},
+            "methods": [{"method": method}],
+        }
+    )
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and of its children that ended (user + system)."""
+    own, children = (
+        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def _floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
+    """Process CPU seconds of the bare method over the plan's pairs, and the pair count."""
+    cv2.setNumThreads(1)  # as in the workers: other threads' CPU would count in the floor
+    method = jobs[0].method.create()
+    images: dict[ImageTask, object] = {}
+    for job in jobs:
+        for task in (job.goal, *job.currents):
+            images.setdefault(task, load_view(task.source, task.i, task.j, job.method.image_kind))
+    first = next(iter(images.values()))
+    method.home(method.describe(first), method.describe(first))  # warm-up (a JIT compiles)
+    start = time.process_time()
+    features = {task: method.describe(view) for task, view in images.items()}
+    pairs = 0
+    for job in jobs:
+        views = _GridViews(job, method)
+        database = open_source(job.currents[0].source)
+        for task in job.currents:
+            extra = views.extra(task, database.heading(task.i, task.j) + task.rotation)
+            method.home(features[task], features[job.goal], **extra)
+            pairs += 1
+    return time.process_time() - start, pairs
+
+
+def _run(config: RunConfig, jobs: int) -> tuple[float, float]:
+    """Wall and CPU seconds (this process and its workers) of one fresh run."""
+    wall, cpu = time.perf_counter(), _cpu()
+    outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
+    wall, cpu = time.perf_counter() - wall, _cpu() - cpu
+    if outcome.failures:
+        raise SystemExit(f"{len(outcome.failures)} job(s) failed: {outcome.failures[0].error}")
+    return wall, cpu
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--goals", type=int, default=4, help="goals (all currents each)")
+    parser.add_argument("--methods", nargs="+", default=list(METHODS))
+    args = parser.parse_args()
+    ensure_generated(DATABASE, jobs=2)
+    print(
+        f"{'method':<12} {'pairs':>5} {'floor ms':>8} {'j1 ms':>7} {'ratio':>5} {'j2 ms':>7} "
+        f"{'ratio':>5} {'j1 s':>6} {'j2 s':>6} {'speed-up':>8}  load before/after"
+    )
+    for name in args.methods:
+        load = os.getloadavg()[0]
+        with tempfile.TemporaryDirectory() as folder:
+            config = _config(Path(folder) / "plan", name, args.goals)
+            plan = make_plan(config, prepare_sources(config, 2), Path("bench"))
+            floor, pairs = _floor(plan.home)
+            runs = {}
+            for n in (1, 2):
+                runs[n] = _run(_config(Path(folder) / f"jobs{n}", name, args.goals), n)
+        per_pair = {n: 1000.0 * cpu / pairs for n, (_, cpu) in runs.items()}
+        floor_ms = 1000.0 * floor / pairs
+        print(
+            f"{name:<12} {pairs:>5} {floor_ms:>8.2f} {per_pair[1]:>7.2f} "
+            f"{per_pair[1] / floor_ms:>5.2f} {per_pair[2]:>7.2f} {per_pair[2] / floor_ms:>5.2f} "
+            f"{runs[1][0]:>6.2f} {runs[2][0]:>6.2f} {runs[1][0] / runs[2][0]:>8.2f}  "
+            f"{load:.2f}/{os.getloadavg()[0]:.2f}",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
