@@ -109,8 +109,9 @@ def run(
     carry the error; this warns once.
     """
     config_path = Path(config_path)
-    if config_kind(config_path, overrides) == "route":
-        raise ConfigError(f"{config_path}: a route config; run it with `homebench run`")
+    kind = config_kind(config_path, overrides)
+    if kind != "grid":
+        raise ConfigError(f"{config_path}: a {kind} config; run it with `homebench run`")
     if run_dir is not None:  # a JSON string is a YAML string: any path survives the parser
         overrides = [*overrides, f"output={json.dumps(str(run_dir))}"]
     done = run_grid(config_path, overrides, jobs=jobs, show_progress=progress)
@@ -168,8 +169,8 @@ def tables(run_dir: str | Path) -> Tables:
     from homebench.report.run_data import grid_run, read_run_info
 
     info = read_run_info(Path(run_dir))
-    if info.kind == "route":
-        raise DataError(f"{run_dir}: a route run; its table is tables/routes.csv there")
+    if info.kind != "grid":
+        raise DataError(f"{run_dir}: a {info.kind} run; its tables are in tables/ there")
     t = grid_run(info).tables
     return Tables(t.summary, t.pairs, t.goals, t.ahc, t.rr_starts, t.summary_by_seed,
                   t.missing_jobs)  # fmt: skip

@@ -191,7 +191,8 @@ def _format_summary(tables: Any, config: Any) -> str:
     return to_text(view)
 
 
-def _run_routes(
+def _run_experiment(
+    kind: str,
     config_file: Path,
     overrides: Sequence[str],
     jobs: int | None,
@@ -199,14 +200,19 @@ def _run_routes(
     no_progress: bool,
     no_report: bool,
 ) -> None:
-    """``homebench run`` of a route-homing config (``kind: route``)."""
-    from homebench.experiments.route.config import load_route_config
-    from homebench.experiments.route.experiment import run_route_experiment
+    """``homebench run`` of a robot experiment: a route (``kind: route``) or closed-loop
+    homing config (``kind: closed-loop``)."""
+    if kind == "route":
+        from homebench.experiments.route.config import load_route_config as load
+        from homebench.experiments.route.experiment import run_route_experiment as run_kind
+    else:
+        from homebench.experiments.closed_loop.config import load_closed_loop_config as load
+        from homebench.experiments.closed_loop.experiment import (
+            run_closed_loop_experiment as run_kind,
+        )
 
-    config = load_route_config(config_file, overrides)
-    outcome = run_route_experiment(
-        config, config_file, jobs=jobs, force=force, show_progress=not no_progress
-    )
+    config = load(config_file, overrides)
+    outcome = run_kind(config, config_file, jobs=jobs, force=force, show_progress=not no_progress)
     if not outcome.table.empty:
         click.echo(outcome.table.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
     click.echo(
@@ -330,16 +336,17 @@ def run(
     from homebench.config import config_kind
     from homebench.errors import ConfigError
 
-    if config_kind(config_file, overrides) == "route":
+    kind = config_kind(config_file, overrides)
+    if kind != "grid":
         grid_only = (
             backend != "local" or shard is not None or check or retry_failed or timeout or update
         )
         if grid_only:
             raise ConfigError(
                 "--backend dask, --shard, --check, --retry-failed and --timeout are for grid "
-                "runs, not routes"
+                f"runs, not {kind} runs"
             )
-        _run_routes(config_file, overrides, jobs, force, no_progress, no_report)
+        _run_experiment(kind, config_file, overrides, jobs, force, no_progress, no_report)
         return
     done = run_grid(
         config_file,

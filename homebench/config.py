@@ -25,7 +25,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
@@ -285,11 +285,7 @@ class RunConfig(_Strict):
 
     def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
         """(label, method name, params) of every method entry and grid point, in config order."""
-        return [
-            (label, entry.method, params)
-            for entry in self.methods
-            for label, params in entry.expand()
-        ]
+        return method_points(self.methods)
 
     def worlds(self) -> list[SweptWorld]:
         """The (style, seed) of every swept world, styles outermost; None where the config
@@ -297,29 +293,69 @@ class RunConfig(_Strict):
         return [(style, seed) for style in self.styles or [None] for seed in self.seeds or [None]]
 
 
-def config_kind(path: Path, overrides: Sequence[str] = ()) -> str:
-    """The experiment kind a config file declares: "route" (``kind: route``), "closed-loop"
-    (``kind: closed-loop``) or "grid"."""
-    data = load_yaml_mapping(path, what="config", overrides=overrides)
+#: The kinds of experiment a config declares with ``kind:`` (grid without one).
+ROBOT_KINDS = ("route", "closed-loop")
+
+
+def kind_of(data: Mapping[str, Any]) -> str:
+    """The experiment kind of a config mapping: "route", "closed-loop" or "grid"."""
     kind = data.get("kind")
-    return kind if kind in ("route", "closed-loop") else "grid"
+    return kind if kind in ROBOT_KINDS else "grid"
+
+
+def config_kind(path: Path, overrides: Sequence[str] = ()) -> str:
+    """The experiment kind a config file declares (:func:`kind_of`)."""
+    return kind_of(load_yaml_mapping(path, what="config", overrides=overrides))
 
 
 def load_config(path: Path, overrides: Sequence[str] = ()) -> RunConfig:
     """Read and validate a run config with ``key.path=value`` ``overrides``; every problem is
     a ConfigError naming file and key."""
     config = load_model(RunConfig, path, what="config", overrides=overrides)
-    for k, entry in enumerate(config.methods):
-        for _, params in entry.expand():
-            try:
-                if "compass" in params and "compass" not in registry.parameters(entry.method):
-                    raise ConfigError(
-                        f"params: compass is a key of the method entry, not a parameter of "
-                        f"{entry.method}: write compass: {params['compass']} beside method:"
-                    )
-                registry.create(entry.method, **params)
-            except HomebenchError as error:
-                raise ConfigError(f"{path}: methods.{k}: {error}") from None
-            except (TypeError, ValueError) as error:
-                raise ConfigError(f"{path}: methods.{k}.params: {error}") from None
+    check_entries(path, config.methods)
     return config
+
+
+def method_points(entries: Sequence[MethodEntry]) -> list[tuple[str, str, dict[str, Any]]]:
+    """(label, method name, params) of every method entry and grid point, in order (the method
+    lists of every kind of config)."""
+    return [(label, entry.method, params) for entry in entries for label, params in entry.expand()]
+
+
+def entry_problem(entry: MethodEntry, robot: str | None = None) -> str:
+    """Why ``entry`` cannot run ("" when it can): its method cannot be made with its params,
+    or, for a ``robot`` experiment (its kind's name), the method needs more than the one
+    unfolded panorama a robot sees (a grid's neighbours, raw images)."""
+    try:
+        cls = registry.get(entry.method)
+        for _, params in entry.expand():
+            if "compass" in params and "compass" not in registry.parameters(entry.method):
+                return (
+                    f"params: compass is a key of the method entry, not a parameter of "
+                    f"{entry.method}: write compass: {params['compass']} beside method:"
+                )
+            registry.create(entry.method, **params)
+    except HomebenchError as error:
+        return str(error)
+    except (TypeError, ValueError) as error:
+        return f"params: {error}"
+    if robot is not None and getattr(cls, "uses_neighbours", False):
+        return (
+            f"{entry.method} needs the views of the neighbouring grid positions; a {robot} robot "
+            "has one view at a time"
+        )
+    if robot is not None and cls.image_kind != "unfolded":
+        return (
+            f"{entry.method} homes on {cls.image_kind} images; a {robot} robot sees unfolded "
+            "panoramas (use its unfolded variant, e.g. sift-unfolded)"
+        )
+    return ""
+
+
+def check_entries(path: Path, entries: Sequence[MethodEntry], robot: str | None = None) -> None:
+    """ConfigError naming the file and entry of the first entry with a problem
+    (:func:`entry_problem`)."""
+    for k, entry in enumerate(entries):
+        problem = entry_problem(entry, robot)
+        if problem:
+            raise ConfigError(f"{path}: methods.{k}: {problem}")

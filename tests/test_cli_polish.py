@@ -290,5 +290,7 @@ def test_the_config_docstring_example_is_a_valid_config(tmp_path: Path) -> None:
     path.write_text(example)
     config = load_config(path)
     assert config.name == "quickstart"
-    assert [label for label, _, _ in config.method_points()] == ["warping", "warping-coarse"]
+    labels = [label for label, _, _ in config.method_points()]
+    assert labels == ["warping", "warping-coarse", "alv-vc"]
+    assert config.methods[2].compass == "visual"
     assert config.methods[1].params == {"n_rho": 10}

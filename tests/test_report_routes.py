@@ -19,6 +19,7 @@ import pytest
 from click.testing import CliRunner
 
 from homebench.cli import main
+from homebench.config import MethodEntry
 from homebench.errors import DataError
 from homebench.experiments.route.config import RouteConfig
 from homebench.experiments.route.experiment import RouteJob, RouteTrial, plan_trials
@@ -300,3 +301,68 @@ def test_cli_report_of_a_route_run(route_run: Path) -> None:
     printed = [Path(line) for line in result.stdout.splitlines()]
     assert route_run / "report" / "report.md" in printed and all(p.is_file() for p in printed)
     assert "routes/line-3m-r2.json (trial line-3m-r2: missing)" in result.stderr
+
+
+def test_a_run_of_several_methods_compares_them_on_the_same_trials(tmp_path: Path) -> None:
+    """klt-sector as in the other tests, warping 1 cm farther from home on every trial: the
+    per-method table, the paired test (6 trials, all one way: exact sign-flip p = 2 / 2**6),
+    per length, the figures with intervals and one trajectory page per route length."""
+    run = tmp_path / "run"
+    config = _config(run).model_copy(
+        update={
+            "methods": [MethodEntry(method="klt-sector"), MethodEntry(method="warping")],
+            "success_radius_m": 0.02,
+        }
+    )
+    (run / "routes").mkdir(parents=True)
+    (run / "config.resolved.json").write_text(json.dumps(config.model_dump(mode="json")))
+    environment = {"config_file": "tiny.yaml", "started": STARTED, "versions": {}}
+    (run / "environment.json").write_text(json.dumps(environment))
+    for k, trial in enumerate(plan_trials(config)):
+        for label, shift in (("klt-sector", 0.0), ("warping", 0.01)):
+            job = RouteJob(config, trial, label)
+            record = _trial_record(job, k)
+            record["homing"][-1][0] += shift
+            record["summary"] |= {
+                "visual_error_m": record["summary"]["visual_error_m"] + shift,
+                "visual_path_m": 2.0 * trial.length,
+                "legs": 2,
+            }
+            job.result_path(run).parent.mkdir(exist_ok=True)
+            job.result_path(run).write_text(json.dumps(record))
+    outcome = write_report(run, ["md"])
+    assert outcome.warnings == []
+    tables = run / "report" / "tables"
+    visual = np.array(list(ERRORS.values()))[:, 0]
+    odometry = np.array(list(ERRORS.values()))[:, 1]
+    by_method = pd.read_csv(tables / "routes_by_method.csv")
+    assert list(by_method["method"]) == ["klt-sector", "warping", "odometry"]
+    assert np.allclose(
+        by_method["final error mean [cm]"],
+        np.round(100 * np.array([visual.mean(), visual.mean() + 0.01, odometry.mean()]), 2),
+    )
+    # within 2 cm: klt-sector 5 trials, warping the 4 below 1 cm, odometry none
+    assert np.allclose(by_method["success [%]"], np.round([500 / 6, 400 / 6, 0]))
+    assert list(by_method["path / route length"][:2]) == [2.0, 2.0]
+    paired = pd.read_csv(tables / "routes_paired.csv").set_index(["A", "B"])
+    row = paired.loc[("klt-sector", "warping")]
+    assert row["trials"] == 6 and row["B - A final error [cm]"] == pytest.approx(1.0)
+    assert row["p sign-flip"] == pytest.approx(2 / 64, abs=1e-3)
+    assert (row["success A only"], row["success B only"]) == (1, 0)
+    assert row["p McNemar"] == pytest.approx(1.0)
+    assert paired.loc[("odometry", "klt-sector"), "B - A final error [cm]"] < 0
+    by_length = pd.read_csv(tables / "routes_by_method_length.csv")
+    assert len(by_length) == 3 * 2 and list(by_length["trials"]) == [3] * 6
+    trials = pd.read_csv(tables / "routes.csv")
+    assert list(trials["method"][:2]) == ["klt-sector", "warping"] and len(trials) == 12
+    # Seed 000's findings are klt-sector's: the other method's trials stay out of them.
+    from homebench.report.findings_report import _route_table
+
+    assert list(_route_table([run])["method"]) == ["klt-sector"] * 6
+    figures = sorted(p.name for p in (run / "report" / "figures").glob("*.png"))
+    assert figures == [
+        "final_error.png",
+        "final_error_intervals.png",
+        "trajectories_line-1m-r0.png",
+        "trajectories_line-3m-r0.png",
+    ]

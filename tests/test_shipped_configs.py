@@ -9,6 +9,7 @@ import yaml
 from conftest import run_config
 
 from homebench.config import config_kind, load_config
+from homebench.experiments.closed_loop.config import load_closed_loop_config
 from homebench.experiments.route.config import load_route_config
 
 CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
@@ -18,6 +19,8 @@ CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
 def test_shipped_config_is_valid(path: Path) -> None:
     if config_kind(path) == "route":
         assert load_route_config(path).routes
+    elif config_kind(path) == "closed-loop":
+        assert load_closed_loop_config(path).labels()
     else:
         assert load_config(path).methods
 

@@ -79,13 +79,19 @@ def source_closure(module: str) -> dict[str, Path]:
     return closure
 
 
+def module_version(module: str) -> str:
+    """A sha256 (16 hex digits) of the source of ``module`` and of the modules of its
+    top-level package it imports, transitively."""
+    digest = hashlib.sha256()
+    for name, path in sorted(source_closure(module).items()):
+        source = path.read_bytes()
+        digest.update(f"{name}\0{len(source)}\0".encode() + source)
+    return digest.hexdigest()[:16]
+
+
 def code_version(cls: type) -> str:
     """``"<distribution> <version> <source hash>"`` of a method class (``local`` instead of
     distribution and version for a class no installed distribution provides)."""
-    digest = hashlib.sha256()
-    for name, path in sorted(source_closure(cls.__module__).items()):
-        source = path.read_bytes()
-        digest.update(f"{name}\0{len(source)}\0".encode() + source)
     origin = registry.distribution(cls)
     prefix = f"{origin[0]} {origin[1]}" if origin is not None else "local"
-    return f"{prefix} {digest.hexdigest()[:16]}"
+    return f"{prefix} {module_version(cls.__module__)}"

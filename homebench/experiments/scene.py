@@ -22,9 +22,10 @@ from homebench.data.database import GridDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
 from homebench.evaluation.sources import database_view
-from homebench.geometry import PanoramaGeometry, Pose
+from homebench.geometry import Grid, PanoramaGeometry, Pose, wrap_angle
 from homebench.hashing import derived_seed
 from homebench.imaging.rotation import rotate_view
+from homebench.views import View
 
 #: A robot's camera: the panorama (H, W) or (H, W, 3), uint8, seen at a pose as frame k.
 Camera = Callable[[Pose, int], NDArray[np.uint8]]
@@ -36,13 +37,14 @@ class Scene:
 
     ``render(pose, noise_seed)`` gives the panorama at ``pose``; ``check_pose`` raises PoseError
     for a pose the scene cannot show; ``grid_origin`` is the capture grid's origin (metres),
-    which routes given in the grid frame start from.
+    which routes given in the grid frame start from; ``grid`` the capture grid itself.
     """
 
     geometry: PanoramaGeometry
     render: Callable[[Pose, int], NDArray[np.uint8]]
     check_pose: Callable[[Pose], None]
     grid_origin: tuple[float, float]
+    grid: Grid | None = None
 
     def camera(self, seed: int, phase: str) -> Camera:
         """Frame k at ``pose``, its sensor noise seeded by (seed, phase, k)."""
@@ -60,6 +62,7 @@ def world_scene(spec: WorldSpec) -> Scene:
         lambda pose, noise_seed: world.render(pose, noise_seed)["unfolded"],
         world.check_pose,
         spec.to_grid().origin,
+        spec.to_grid(),
     )
 
 
@@ -91,11 +94,18 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> Scene:
         check_pose(pose)
         i, j = (int(v) for v in grid.nearest_index(pose.xy))
         view = database_view(database, i, j, "unfolded", unfold_geometry)
-        turn = pose.heading - database.heading(i, j)
-        columns = round(turn / geometry.column_step)
-        return rotate_view(view, columns * geometry.column_step).image if columns else view.image
+        return turned(view, pose.heading - database.heading(i, j))
 
-    return Scene(geometry, render, check_pose, grid.origin)
+    return Scene(geometry, render, check_pose, grid.origin, grid)
+
+
+def turned(view: View, turn: float) -> NDArray[np.uint8]:
+    """The image of unfolded ``view`` turned ccw by ``turn`` (rad) rounded to whole columns
+    (the heading error this leaves is at most half a column step)."""
+    geometry = view.geometry
+    assert isinstance(geometry, PanoramaGeometry)
+    columns = round(float(wrap_angle(turn)) / geometry.column_step)
+    return rotate_view(view, columns * geometry.column_step).image if columns else view.image
 
 
 def open_scene(

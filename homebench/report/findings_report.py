@@ -23,6 +23,7 @@ from homebench.evaluation.findings import (
     route_findings,
     sift_findings,
 )
+from homebench.experiments.route.config import KLT_SECTOR
 from homebench.report.route_report import load_route_run
 from homebench.report.run_data import grid_run, read_run_info
 from homebench.report.tables import FIXED0, FIXED2, FIXED3, TableView, make_view
@@ -49,6 +50,9 @@ def _route_table(run_dirs: Sequence[Path]) -> pd.DataFrame:
         run = load_route_run(read_run_info(run_dir))
         world = run.config.world
         frame = pd.DataFrame([trial.summary for trial in run.trials])
+        # Seed 000's findings are klt-sector's: other methods of the run are left out.
+        klt = [label for label, name, _ in run.config.method_points() if name == KLT_SECTOR]
+        frame = frame[frame["method"].isin(klt)] if "method" in frame else frame
         frame.insert(0, "seed", world.seed)
         frame.insert(0, "style", world.style if run.config.database is None else run_dir.name)
         frames.append(frame)

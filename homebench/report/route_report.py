@@ -1,16 +1,21 @@
 """The report of a route-homing run (``kind: route``, seed 000): trials, tables, figures.
 
 A route run's folder holds ``config.resolved.json`` (a :class:`RouteConfig`), which says what
-trials there should be, and ``routes/<trial>.json`` per finished trial
+trials and methods there should be, and a result file per finished job
 (:mod:`homebench.experiments.route.experiment`). A trial file that is missing, corrupt or of
 another configuration (its key differs) becomes a warning line, as a grid run's job files do.
+
+A run of one method (klt-sector by default) gets the per-length and per-trial tables, the
+final errors and the trajectories. A run of several methods gets the comparison of
+:mod:`homebench.report.route_compare` first (per method with intervals over trials, paired
+tests, per length), the per-trial table with a method column, and the trajectories of the
+first trial of each route and length, one panel per method.
 """
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -19,16 +24,21 @@ from matplotlib.figure import Figure
 from pydantic import BaseModel, ValidationError
 
 from homebench.errors import DataError
-from homebench.experiments.route.config import RouteConfig, RouteSpec
-from homebench.experiments.route.experiment import RouteJob, RouteTrial, plan_trials
+from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
+from homebench.experiments.route.experiment import RouteJob, RouteTrial, route_jobs
+from homebench.experiments.trials import read_trial
 from homebench.report.pages import environment_lines, run_lines
+from homebench.report.route_compare import (
+    error_interval_figure,
+    length_view,
+    method_view,
+    paired_view,
+)
 from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
 from homebench.report.run_data import CONFIG_FILE, RunInfo, validation_error
 from homebench.report.style import MAX_COLUMNS, method_styles
 from homebench.report.tables import FIXED0, FIXED1, FIXED2, Digits, TableView, make_view
 
-#: The method that homes visually in a route run (its label in tables and figures).
-ROUTE_METHOD = "klt-sector"
 #: Trajectory panels per page (one row).
 PANELS_PER_PAGE = MAX_COLUMNS
 #: The status of a visual homing run that reached home.
@@ -71,9 +81,11 @@ LENGTH_COLUMNS: Columns = {
 
 @dataclass(frozen=True)
 class TrialData:
-    """One finished trial: its plan entry, its ``summary`` (the table's row) and its poses."""
+    """One finished job: its trial, the method's ``label``, its ``summary`` (the table's row)
+    and its poses."""
 
     trial: RouteTrial
+    label: str
     summary: dict[str, Any]
     result: RouteResult
 
@@ -89,8 +101,18 @@ class RouteRun:
     planned: int
     warnings: list[str]
 
+    @property
+    def labels(self) -> list[str]:
+        """The config's method labels, in order."""
+        return [label for label, _, _ in self.config.method_points()]
 
-def _trial_data(record: dict[str, Any], trial: RouteTrial) -> TrialData:
+    @property
+    def compared(self) -> bool:
+        """Whether the run compares several methods."""
+        return len(self.labels) > 1
+
+
+def _trial_data(record: dict[str, Any], trial: RouteTrial, label: str) -> TrialData:
     """The trial's summary and poses; KeyError, TypeError or ValueError when malformed."""
     summary = record["summary"]
     if not isinstance(summary, dict):
@@ -99,28 +121,21 @@ def _trial_data(record: dict[str, Any], trial: RouteTrial) -> TrialData:
     if absent:
         raise KeyError(f"summary.{absent[0]}")
     result = RouteResult(
-        ROUTE_METHOD, record["outbound"], record["homing"], record["intermediate"],
+        label, record["outbound"], record["homing"], record["intermediate"],
         record["odometry"], trial=trial.name, planned_length_m=trial.length,
     )  # fmt: skip
-    return TrialData(trial, summary, result)
+    return TrialData(trial, label, {**summary, "method": label}, result)
 
 
 def _load_trial(job: RouteJob, run_dir: Path) -> TrialData | str:
     """The trial of ``job``, or why it has none: "routes/x.json (trial x: missing)"."""
     path = job.result_path(run_dir)
+    record = read_trial(path, run_dir, job.trial.name, job.key)
+    if isinstance(record, str):
+        return record
     where = f"{path.relative_to(run_dir).as_posix()} (trial {job.trial.name}"
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        return f"{where}: missing)"
-    except (OSError, ValueError) as error:
-        return f"{where}: corrupt, {error})"
-    if not isinstance(record, dict):
-        return f"{where}: corrupt, not a JSON object)"
-    if record.get("key") != job.key:
-        return f"{where}: of another configuration, key {record.get('key')} != {job.key})"
-    try:
-        return _trial_data(record, job.trial)
+        return _trial_data(record, job.trial, job.label)
     except KeyError as error:
         return f"{where}: corrupt, no {error})"
     except (TypeError, ValueError) as error:
@@ -135,9 +150,9 @@ def load_route_run(info: RunInfo) -> RouteRun:
     except ValidationError as error:
         raise validation_error(info.run_dir / CONFIG_FILE, "", error) from None
     trials, warnings = [], []
-    plan = plan_trials(config)
-    for trial in plan:
-        loaded = _load_trial(RouteJob(config, trial), info.run_dir)
+    plan = route_jobs(config)
+    for job in plan:
+        loaded = _load_trial(job, info.run_dir)
         (warnings if isinstance(loaded, str) else trials).append(loaded)
     if not trials:
         shown = "; ".join(warnings[:3]) + (" ..." if len(warnings) > 3 else "")
@@ -170,19 +185,51 @@ def _route_line(route: RouteSpec) -> str:
     )
 
 
-def _results_lines(run: RouteRun) -> list[str]:
-    frame = trial_frame(run)
+def _method_lines(frame: pd.DataFrame, label: str) -> list[str]:
     reached = int((frame["visual_status"] == REACHED).sum())
-    missing = len(run.warnings)
     visual = 100 * frame["visual_error_m"].astype(float)
     odometry = 100 * frame["odometry_error_m"].astype(float)
     return [
-        f"{len(run.trials)} of {run.planned} planned trials; missing or corrupt trial files: "
-        f"{missing}{' (see the next page)' if missing else ''}",
-        f"visual homing ({ROUTE_METHOD}) reached home in {reached} of {len(run.trials)} trials",
+        f"visual homing ({label}) reached home in {reached} of {len(frame)} trials",
         f"final position error, median over trials: visual {visual.median():.2f} cm, odometry "
         f"{odometry.median():.2f} cm (max {visual.max():.2f} and {odometry.max():.2f} cm)",
     ]
+
+
+def _results_lines(run: RouteRun) -> list[str]:
+    frame = trial_frame(run)
+    missing = len(run.warnings)
+    lines = [
+        f"{len(run.trials)} of {run.planned} planned trials; missing or corrupt trial files: "
+        f"{missing}{' (see the next page)' if missing else ''}",
+    ]
+    for label in run.labels:
+        mine = frame[frame["method"] == label]
+        if not mine.empty:
+            lines += _method_lines(mine, label)
+    return lines
+
+
+def _experiment_lines(run: RouteRun) -> list[str]:
+    """What the methods do: klt-sector's route homing and/or the snapshot route homing."""
+    lines = []
+    if KLT_SECTOR in {name for _, name, _ in run.config.method_points()}:
+        lines.append(
+            "route homing (seed 000): outbound route with KLT tracking, intermediate positions "
+            "from the feature life-cycles, homing leg by leg with the sector law; odometry "
+            "homing from the same end pose as the baseline"
+        )
+    pairwise = [label for label, name, _ in run.config.method_points() if name != KLT_SECTOR]
+    if pairwise:
+        lines += [
+            f"route homing with pairwise methods ({', '.join(pairwise)}): snapshots stored on "
+            "the outbound route, homing leg by leg from snapshot to snapshot; odometry homing "
+            "from the same end pose as the baseline",
+            f"pairwise homing: {_params(run.config.pairwise)}",
+        ]
+    if run.compared:
+        lines.append(f"success: final position within {run.config.success_radius_m:g} m of home")
+    return lines
 
 
 def _scene_line(c: RouteConfig) -> str:
@@ -202,9 +249,7 @@ def route_summary(run: RouteRun) -> dict[str, list[str]]:
     return {
         "Run": run_lines(run.info),
         "Experiment": [
-            "route homing (seed 000): outbound route with KLT tracking, intermediate positions "
-            "from the feature life-cycles, homing leg by leg with the sector law; odometry "
-            "homing from the same end pose as the baseline",
+            *_experiment_lines(run),
             _scene_line(c),
             *(_route_line(route) for route in c.routes),
             f"motion: {_params(c.motion)}",
@@ -240,8 +285,10 @@ def _scaled(frame: pd.DataFrame, columns: Columns) -> tuple[pd.DataFrame, dict[s
 
 
 def trials_view(run: RouteRun) -> TableView:
-    """One row per trial: route length, features, intermediate positions, final errors."""
-    frame, digits = _scaled(trial_frame(run), TRIAL_COLUMNS)
+    """One row per trial (and method, when the run compares several): route length, features,
+    intermediate positions, final errors."""
+    columns = {"method": ("method", None, 1.0), **TRIAL_COLUMNS} if run.compared else TRIAL_COLUMNS
+    frame, digits = _scaled(trial_frame(run), columns)
     title = "Route homing per trial: visual homing and odometry, final errors at home"
     return make_view("routes", title, frame, digits)
 
@@ -271,8 +318,17 @@ def by_length_view(run: RouteRun) -> TableView:
 
 
 def route_views(run: RouteRun) -> list[TableView]:
-    """The report tables of a route run: per route length, then per trial."""
-    return [by_length_view(run), trials_view(run)]
+    """The report tables of a route run: per route length, then per trial; a run of several
+    methods: per method, paired comparisons, per method and length, then per trial."""
+    if not run.compared:
+        return [by_length_view(run), trials_view(run)]
+    jobs, radius = trial_frame(run), run.config.success_radius_m
+    return [
+        method_view(jobs, run.labels, radius),
+        paired_view(jobs, run.labels, radius),
+        length_view(jobs, run.labels, radius),
+        trials_view(run),
+    ]
 
 
 # --------------------------------------------------------------------------- figures
@@ -302,12 +358,39 @@ def _page_name(page: Sequence[TrialData]) -> str:
     return first if first == last else f"{first} to {last}"
 
 
+def _compared_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
+    """A run of several methods: final errors with intervals, then per trial (the first of
+    each route and length) one panel per method."""
+    styles = method_styles(run.labels)
+    caption = (
+        "Final position error against route length per method and for odometry homing from "
+        "the same end poses: mean over trials with its 95 % interval over trials"
+    )
+    figure = error_interval_figure(trial_frame(run), styles)
+    yield "final_error_intervals", "Final errors", caption, figure
+    caption = "Final position error against route length: every trial (hollow) and the means"
+    figure = route_error_figure([trial.result for trial in run.trials], styles)
+    yield "final_error", "Final errors", caption, figure
+    firsts: dict[tuple[str, float], str] = {}
+    for trial in run.trials:
+        firsts.setdefault((trial.trial.route, trial.trial.length), trial.trial.name)
+    for name in firsts.values():
+        mine = [trial for trial in run.trials if trial.trial.name == name]
+        results = [replace(t.result, trial=f"{name}: {t.label}") for t in mine]
+        caption = f"Trajectories of trial {name}, one panel per method"
+        yield f"trajectories_{name}", "Trajectories", caption, route_figure(results, styles)
+
+
 def route_run_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
     """(file stem, section, caption, figure): the final errors, then the trajectories."""
-    styles = method_styles([ROUTE_METHOD])
+    if run.compared:
+        yield from _compared_figures(run)
+        return
+    label = run.labels[0]
+    styles = method_styles([label])
     results = [trial.result for trial in run.trials]
     caption = (
-        f"Final position error against route length: visual homing ({ROUTE_METHOD}) and "
+        f"Final position error against route length: visual homing ({label}) and "
         "odometry homing from the same end pose"
     )
     yield "final_error", "Final errors", caption, route_error_figure(results, styles)

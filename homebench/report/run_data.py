@@ -10,7 +10,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from homebench.config import MetricsConfig
+from homebench.config import MetricsConfig, kind_of
 from homebench.errors import DataError
 from homebench.evaluation.results import RunTables, build_tables
 
@@ -28,8 +28,8 @@ class RunInfo:
 
     @property
     def kind(self) -> str:
-        """The experiment kind: "route" (``kind: route``) or "grid"."""
-        return "route" if self.config.get("kind") == "route" else "grid"
+        """The experiment kind: "route", "closed-loop" (their ``kind``) or "grid"."""
+        return kind_of(self.config)
 
     @property
     def name(self) -> str:

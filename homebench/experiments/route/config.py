@@ -16,6 +16,20 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
     drift: {translation_var: 1.0e-4, heading_bias: 0.01}
     tracker: {max_corners: 150, min_tracks: 100}  # KltTracker parameters
     homing: {min_shared: 80, goal_threshold: 0.01}
+    methods:                                     # grid-config method entries (default:
+      - {method: klt-sector}                     #   klt-sector alone)
+      - {method: warping, label: warping-fine, params: {n_rho: 40}}
+    pairwise:                                    # every method but klt-sector
+      snapshots: {rule: spacing, spacing_m: 0.5} # or {rule: similarity, threshold: 12}
+      arrival: {criterion: minimum, patience: 2} # or {criterion: oracle, radius_m: 0.05}
+    success_radius_m: 0.1                        # success: the final position this near home
+
+``klt-sector`` keeps seed 000's own route homing (KLT tracking on the way out, intermediate
+positions from the feature life-cycles, the sector law; set by ``tracker`` and ``homing``, so its
+entry takes no ``params``). Every other method homes through snapshots
+(:mod:`~homebench.experiments.route.pairwise`, set by ``pairwise``). It must be pairwise (no
+grid neighbours, like DID) and work on unfolded panoramas, which is what the scene renders
+(``sift-unfolded`` for the SIFT family).
 
 Checks that need the world (waypoints in free space, or within a database's grid) happen when
 the experiment starts.
@@ -29,15 +43,27 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
-from homebench.config import ALIAS, UnfoldConfig
+from homebench.config import ALIAS, MethodEntry, UnfoldConfig, entry_problem, method_points
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
 from homebench.experiments.robot import DriftModel, MotionLimits
+from homebench.experiments.route.pairwise import PairwiseParams
 from homebench.experiments.route.visual import VisualHomingParams
 from homebench.methods.klt_tracking import KltTracker
 from homebench.yamlio import load_model
+
+#: The method that homes with seed 000's own route homing (life-cycles, sector law).
+KLT_SECTOR = "klt-sector"
 
 
 class _Strict(BaseModel):
@@ -122,6 +148,11 @@ class RouteConfig(_Strict):
     drift: DriftModel = DriftModel()
     tracker: dict[str, Any] = Field(default_factory=dict)
     homing: VisualHomingParams = VisualHomingParams()
+    methods: list[MethodEntry] = Field(
+        default_factory=lambda: [MethodEntry(method=KLT_SECTOR)], min_length=1
+    )
+    pairwise: PairwiseParams = PairwiseParams()
+    success_radius_m: float = Field(0.1, gt=0)
 
     @model_validator(mode="after")
     def _checks(self) -> RouteConfig:
@@ -137,7 +168,32 @@ class RouteConfig(_Strict):
             self.klt()
         except (TypeError, ConfigError) as error:
             raise ValueError(f"tracker: {error}") from None
+        labels = [label for label, _, _ in self.method_points()]
+        repeated = sorted({label for label in labels if labels.count(label) > 1})
+        if repeated:
+            raise ValueError(f"methods: label {repeated[0]!r} used twice; give each entry a label")
+        for k, entry in enumerate(self.methods):
+            problem = _method_problem(entry)
+            if problem:
+                raise ValueError(f"methods.{k}: {problem}")
         return self
+
+    @model_serializer(mode="wrap")
+    def _omit_unused(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The fields, without ``pairwise`` when no method uses it and without ``methods`` and
+        ``success_radius_m`` when not given: a klt-sector run's resolved config (and its hash)
+        is the same as before route runs had other methods."""
+        data = handler(self)
+        if all(name == KLT_SECTOR for _, name, _ in self.method_points()):
+            data.pop("pairwise", None)
+        for name in ("methods", "success_radius_m"):
+            if name not in self.model_fields_set:
+                data.pop(name, None)
+        return data
+
+    def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
+        """(label, method name, params) of every method entry and grid point, in order."""
+        return method_points(self.methods)
 
     def scene_key(self) -> dict[str, Any]:
         """What identifies the scene in trial keys: the database or the world spec's hash."""
@@ -148,6 +204,18 @@ class RouteConfig(_Strict):
     def klt(self) -> KltTracker:
         """The corner tracker of the run."""
         return KltTracker(**self.tracker)
+
+
+def _method_problem(entry: MethodEntry) -> str:
+    """Why a route run cannot home with ``entry`` ("" when it can)."""
+    if entry.method == KLT_SECTOR:
+        if entry.params or entry.grid or entry.compass != "none":
+            return (
+                "klt-sector homes with its own route homing, set by 'tracker' and 'homing'; "
+                "its entry takes no params, grid or compass"
+            )
+        return ""
+    return entry_problem(entry, robot="route")
 
 
 def load_route_config(path: Path, overrides: Sequence[str] = ()) -> RouteConfig:

@@ -1,22 +1,33 @@
 """The route-homing experiment of seed 000: trials, their result files, the routes table.
 
-A trial = one route driven for one length. It drives the outbound route in the generated world
-(:mod:`~.outbound`), chooses the intermediate positions from the feature life-cycles
-(:mod:`~.lifecycle`), homes leg by leg with the sector law (:mod:`~.visual`) and, from the
-same end pose and odometry, homes by dead reckoning (the odometry baseline). Everything is
-seeded from the config's seed and the trial's name, so a rerun gives identical numbers.
+A trial = one route driven for one length; a job = one trial homed by one method of the config.
+Every job drives the same outbound route (the drive is seeded from the config's seed and the
+trial's name, and does not depend on what the robot sees), homes with its method from the
+route's end, and homes by dead reckoning from the same end pose and odometry (the odometry
+baseline, the same in every job of a trial). So all methods are compared on the same routes,
+and a rerun gives identical numbers.
 
-Files in the run folder: ``routes/<trial>.json`` per trial (written atomically; a rerun skips
-trials whose file holds the same key), ``tables/routes.csv``, and the run metadata. A trial's
-JSON holds plain arrays, poses as (n, 3) rows (x [m], y [m], heading [rad]): ``outbound`` and
-``outbound_odometry``, ``homing`` (the visual run from the route's end), ``odometry`` (the
-baseline's true path) and ``odometry_belief``, ``intermediate`` (indices into ``outbound``,
-in visiting order, home excluded), ``lifecycles`` (id, first frame, last frame), ``legs`` and a
-``summary`` (the table's row).
+- ``klt-sector`` (seed 000's own route homing): KLT tracking on the way out
+  (:mod:`~.outbound`), intermediate positions from the feature life-cycles (:mod:`~.lifecycle`),
+  the sector law leg by leg (:mod:`~.visual`).
+- Any other (pairwise) method: snapshots stored on the way out (:mod:`~.snapshots`), homing leg
+  by leg from snapshot to snapshot (:mod:`~.pairwise`).
+
+Files in the run folder: ``routes/<trial>.json`` per trial when the config has one method,
+``routes/<label>/<trial>.json`` per method and trial when it has several (written atomically;
+a rerun skips jobs whose file holds the same key), ``tables/routes.csv`` (one row per job, its
+``success``: the final position within ``success_radius_m`` of home), and the run metadata.
+A trial's JSON holds plain arrays, poses as (n, 3) rows (x [m], y [m], heading [rad]):
+``outbound`` and ``outbound_odometry``, ``homing`` (the visual run from the route's end),
+``odometry`` (the baseline's true path) and ``odometry_belief``, ``targets`` (indices into
+``outbound`` in visiting order, home last) and ``intermediate`` (the same without home),
+``legs`` and a ``summary`` (the table's row); klt-sector's also ``lifecycles`` (id, first
+frame, last frame), a pairwise method's ``snapshots`` (frames, ascending).
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import time
@@ -29,22 +40,33 @@ import pandas as pd
 
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
+from homebench.evaluation.code_version import code_version
 from homebench.evaluation.jobs import JobOutcome, run_safely
+from homebench.evaluation.plan import COMPASS_METHOD
 from homebench.evaluation.runner import run_parallel, write_run_metadata
+from homebench.experiments.homing import MethodHomer
 from homebench.experiments.robot import Robot, dead_reckon
-from homebench.experiments.route.config import RouteConfig, RouteSpec
+from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
 from homebench.experiments.route.lifecycle import TargetSelectionError, select_targets
 from homebench.experiments.route.outbound import (
     as_array,
+    as_pose,
     drive_outbound,
+    drive_route,
     path_length,
     route_prefix,
 )
+from homebench.experiments.route.pairwise import Target, grey, home_pairwise
+from homebench.experiments.route.snapshots import SnapshotRule, similarity_frames, spacing_frames
 from homebench.experiments.route.visual import home_visually
-from homebench.experiments.scene import Scene, open_scene
+from homebench.experiments.scene import Camera, Scene, open_scene
+from homebench.experiments.trials import TrialRunOutcome
 from homebench.fileio import read_json_record, write_text_atomic
-from homebench.geometry import Pose, angular_error
+from homebench.geometry import FloatArray, Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
+from homebench.methods import registry
+from homebench.methods.visual_compass import CompassMode
+from homebench.views import View
 
 #: Bump when a trial's result changes for an unchanged config (invalidates finished trials).
 ROUTE_FORMAT = 1
@@ -99,31 +121,69 @@ def plan_trials(config: RouteConfig) -> list[RouteTrial]:
     return trials
 
 
+@functools.cache
+def _code(name: str) -> str:
+    return code_version(registry.get(name))
+
+
 @dataclass(frozen=True)
 class RouteJob:
-    """A trial with the config it runs under and its key (a hash of all that decides it)."""
+    """A trial homed by the method entry ``label`` of the config it runs under, and its key
+    (a hash of all that decides it)."""
 
     config: RouteConfig
     trial: RouteTrial
+    label: str = KLT_SECTOR
+
+    @property
+    def method(self) -> tuple[str, dict[str, Any]]:
+        """(registered name, params) of the job's method."""
+        points = {label: (name, params) for label, name, params in self.config.method_points()}
+        return points[self.label]
+
+    @property
+    def compass(self) -> CompassMode:
+        """The job's method entry's compass."""
+        entries = {label: e for e in self.config.methods for label, _ in e.expand()}
+        return entries[self.label].compass if self.label in entries else "none"
 
     @property
     def key(self) -> str:
         c = self.config
-        return stable_hash(
-            {
-                "format": ROUTE_FORMAT,
-                "scene": c.scene_key(),
-                "seed": c.seed,
-                "trial": [self.trial.name, self.trial.waypoints, self.trial.heading],
-                "motion": c.motion.model_dump(mode="json"),
-                "drift": c.drift.model_dump(mode="json"),
-                "tracker": c.tracker,
-                "homing": c.homing.model_dump(mode="json"),
+        name, params = self.method
+        decides = {
+            "format": ROUTE_FORMAT,
+            "scene": c.scene_key(),
+            "seed": c.seed,
+            "trial": [self.trial.name, self.trial.waypoints, self.trial.heading],
+            "motion": c.motion.model_dump(mode="json"),
+            "drift": c.drift.model_dump(mode="json"),
+        }
+        if name == KLT_SECTOR:  # the same keys as before route runs had other methods
+            decides |= {"tracker": c.tracker, "homing": c.homing.model_dump(mode="json")}
+        else:
+            decides |= {
+                "method": {"name": name, "params": params, "code": _code(name)},
+                **(
+                    {"compass": [self.compass, _code(COMPASS_METHOD)]}
+                    if self.compass != "none"
+                    else {}
+                ),
+                "pairwise": c.pairwise.model_dump(mode="json"),
             }
-        )
+        return stable_hash(decides)
 
     def result_path(self, run_dir: Path) -> Path:
-        return run_dir / ROUTES_DIR / f"{self.trial.name}.json"
+        folder = run_dir / ROUTES_DIR
+        if len(self.config.method_points()) > 1:
+            folder = folder / self.label
+        return folder / f"{self.trial.name}.json"
+
+
+def route_jobs(config: RouteConfig) -> list[RouteJob]:
+    """Every (trial, method) of ``config``, trial by trial, methods in config order."""
+    labels = [label for label, _, _ in config.method_points()]
+    return [RouteJob(config, trial, label) for trial in plan_trials(config) for label in labels]
 
 
 def check_routes(config: RouteConfig, scene: Scene, config_path: Path) -> None:
@@ -158,8 +218,40 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
-    """Drive, track, home visually and by odometry; the trial's record (JSON-ready)."""
+def _visual_summary(poses: list[Pose], home: Pose, status: str, legs: int) -> dict[str, Any]:
+    """The homing run's columns of a trial's summary."""
+    end = poses[-1]
+    return {
+        "visual_status": status,
+        "visual_steps": len(poses) - 1,
+        "visual_error_m": math.dist(end.xy, home.xy),
+        "visual_heading_error_deg": _degrees_error(end.heading, home.heading),
+        "visual_path_m": path_length(as_array(poses)),
+        "legs": legs,
+    }
+
+
+def _odometry_baseline(
+    config: RouteConfig, driver: Robot, home: Pose, seed: int
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """Dead reckoning home from the driver's end pose: its summary columns and its arrays."""
+    odometry = Robot(driver.pose, driver.odometry, config.drift, np.random.default_rng([seed, 2]))
+    odometry_poses, belief = dead_reckon(odometry, home, config.motion)
+    summary = {
+        "odometry_error_m": math.dist(odometry.pose.xy, home.xy),
+        "odometry_heading_error_deg": _degrees_error(odometry.pose.heading, home.heading),
+        "odometry_drift_at_end_m": math.dist(driver.pose.xy, driver.odometry.xy),
+    }
+    arrays = {
+        "odometry": as_array(odometry_poses).tolist(),
+        "odometry_belief": as_array(belief).tolist(),
+    }
+    return summary, arrays
+
+
+def run_trial(config: RouteConfig, trial: RouteTrial, label: str = KLT_SECTOR) -> dict[str, Any]:
+    """Drive, track, home visually (klt-sector, the entry ``label``) and by odometry; the
+    trial's record (JSON-ready)."""
     seed = derived_seed(config.seed, trial.name)
     scene = route_scene(config)
     tracker = config.klt()
@@ -183,13 +275,10 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
     except TargetSelectionError as error:
         targets, status, poses, legs, note = [], "no_targets", [visual.pose], [], str(error)
     homing_s = time.perf_counter() - started - outbound_s
-
-    odometry = Robot(driver.pose, driver.odometry, config.drift, np.random.default_rng([seed, 2]))
-    odometry_poses, belief = dead_reckon(odometry, home, config.motion)
-
-    end = poses[-1]
+    odometry, odometry_arrays = _odometry_baseline(config, driver, home, seed)
     summary = {
         "trial": trial.name,
+        "method": label,
         "route": trial.route,
         "length_m": trial.length,
         "driven_m": path_length(outbound.poses),
@@ -198,17 +287,13 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
         "features_home": len(outbound.log.frames[0][0]),
         "min_shared": config.homing.min_shared,
         "n_intermediate": max(len(targets) - 1, 0),
-        "visual_status": status,
-        "visual_steps": len(poses) - 1,
-        "visual_error_m": math.dist(end.xy, home.xy),
-        "visual_heading_error_deg": _degrees_error(end.heading, home.heading),
-        "odometry_error_m": math.dist(odometry.pose.xy, home.xy),
-        "odometry_heading_error_deg": _degrees_error(odometry.pose.heading, home.heading),
-        "odometry_drift_at_end_m": math.dist(driver.pose.xy, driver.odometry.xy),
+        **_visual_summary(poses, home, status, len(legs)),
+        **odometry,
     }
     record = {
         "format": ROUTE_FORMAT,
         "trial": trial.name,
+        "method": label,
         "waypoints": [list(p) for p in trial.waypoints],
         "home": [home.x, home.y, home.heading],
         "outbound": outbound.poses.tolist(),
@@ -218,8 +303,7 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
         "intermediate": targets[:-1],
         "homing": as_array(poses).tolist(),
         "legs": legs,
-        "odometry": as_array(odometry_poses).tolist(),
-        "odometry_belief": as_array(belief).tolist(),
+        **odometry_arrays,
         "note": note,
         "summary": summary,
         "timing": {"outbound_s": outbound_s, "homing_s": homing_s},
@@ -227,8 +311,97 @@ def run_trial(config: RouteConfig, trial: RouteTrial) -> dict[str, Any]:
     return _finite(record)
 
 
+def snapshot_frames(
+    poses: FloatArray, odometry: FloatArray, camera: Camera, rule: SnapshotRule
+) -> tuple[list[int], dict[int, Any]]:
+    """The snapshots of the outbound route (true ``poses`` and ``odometry`` (n, 3), frames
+    seen by ``camera``) by ``rule``: their frames (ascending, 0 first, the last frame never)
+    and grey images by frame."""
+    if rule.rule == "spacing":
+        frames = spacing_frames(odometry, rule.spacing_m)
+        return frames, {k: grey(camera(as_pose(poses[k]), k)) for k in frames}
+    images = [grey(camera(as_pose(pose), k)) for k, pose in enumerate(poses[:-1])]
+    frames = similarity_frames(images, rule.threshold)
+    return frames, {k: images[k] for k in frames}
+
+
+def _homer(method: Any, compass: CompassMode, snapshot: View, pose: Pose) -> MethodHomer:
+    """``method`` homing to ``snapshot``, taken at true ``pose``, with the entry's
+    ``compass``."""
+    features = method.describe(snapshot)
+    return MethodHomer(method, features, snapshot.geometry, compass, pose.heading, snapshot)
+
+
+def run_pairwise_trial(config: RouteConfig, trial: RouteTrial, label: str) -> dict[str, Any]:
+    """Drive, store snapshots, home through them with the pairwise method of entry ``label``
+    and by odometry; the trial's record (JSON-ready)."""
+    job = RouteJob(config, trial, label)
+    name, params = job.method
+    method = registry.create(name, **params)
+    seed = derived_seed(config.seed, trial.name)
+    scene = route_scene(config)
+    home = trial.home
+    started = time.perf_counter()
+    driver = Robot.at(home, config.drift, np.random.default_rng([seed, 0]))
+    poses, belief = drive_route(driver, trial.waypoints, config.motion)
+    rule = config.pairwise.snapshots
+    frames, images = snapshot_frames(poses, belief, scene.camera(seed, "outbound"), rule)
+    targets = [
+        Target(
+            k, images[k], _homer(method, job.compass, View(images[k], scene.geometry), pose), pose
+        )
+        for k in reversed(frames)
+        for pose in [as_pose(poses[k])]
+    ]
+    outbound_s = time.perf_counter() - started
+    visual = Robot(driver.pose, driver.odometry, config.drift, np.random.default_rng([seed, 1]))
+    homing = home_pairwise(
+        visual, targets, scene.camera(seed, "homing"), config.motion,
+        config.pairwise,
+    )  # fmt: skip
+    homing_s = time.perf_counter() - started - outbound_s
+    odometry, odometry_arrays = _odometry_baseline(config, driver, home, seed)
+    visits = [target.frame for target in targets]
+    summary = {
+        "trial": trial.name,
+        "method": label,
+        "route": trial.route,
+        "length_m": trial.length,
+        "driven_m": path_length(poses),
+        "frames": len(poses),
+        "features": None,  # klt-sector's columns, none here
+        "features_home": None,
+        "min_shared": None,
+        "snapshots": len(frames),
+        "n_intermediate": len(frames) - 1,
+        **_visual_summary(homing.poses, home, homing.status, len(homing.legs)),
+        **odometry,
+    }
+    record = {
+        "format": ROUTE_FORMAT,
+        "trial": trial.name,
+        "method": label,
+        "waypoints": [list(p) for p in trial.waypoints],
+        "home": [home.x, home.y, home.heading],
+        "outbound": poses.tolist(),
+        "outbound_odometry": belief.tolist(),
+        "snapshots": frames,
+        "targets": visits,
+        "intermediate": visits[:-1],
+        "homing": as_array(homing.poses).tolist(),
+        "legs": homing.legs_as_dicts(),
+        **odometry_arrays,
+        "note": "",
+        "summary": summary,
+        "timing": {"outbound_s": outbound_s, "homing_s": homing_s},
+    }
+    return _finite(record)
+
+
 def _run_and_write(job: RouteJob, run_dir: Path) -> None:
-    record = {"key": job.key, **run_trial(job.config, job.trial)}
+    name, _ = job.method
+    run = run_trial if name == KLT_SECTOR else run_pairwise_trial
+    record = {"key": job.key, **run(job.config, job.trial, job.label)}
     path = job.result_path(run_dir)
     path.parent.mkdir(parents=True, exist_ok=True)
     write_text_atomic(path, json.dumps(record, allow_nan=False) + "\n")
@@ -239,21 +412,13 @@ def run_route_job(job: RouteJob, run_dir: Path) -> JobOutcome:
     return run_safely("route", job.key, _run_and_write, job, run_dir)
 
 
-def route_table(records: list[dict[str, Any]]) -> pd.DataFrame:
-    """One row per trial: the records' summaries."""
-    return pd.DataFrame([record["summary"] for record in records])
-
-
-@dataclass(frozen=True)
-class RouteRunOutcome:
-    """What the CLI prints: the ``table`` (written to ``table_path``), counts and failures."""
-
-    run_dir: Path
-    table: pd.DataFrame
-    table_path: Path
-    computed: int
-    reused: int
-    failures: tuple[JobOutcome, ...]
+def route_table(records: list[dict[str, Any]], success_radius_m: float) -> pd.DataFrame:
+    """One row per job: the records' summaries, ``success`` when the final position is within
+    ``success_radius_m`` of home."""
+    table = pd.DataFrame([record["summary"] for record in records])
+    if not table.empty:
+        table["success"] = table["visual_error_m"].astype(float) <= success_radius_m
+    return table
 
 
 def run_route_experiment(
@@ -262,13 +427,13 @@ def run_route_experiment(
     jobs: int | None = None,
     force: bool = False,
     show_progress: bool = True,
-) -> RouteRunOutcome:
+) -> TrialRunOutcome:
     """Run every unfinished trial of ``config`` and write the routes table."""
     check_routes(config, route_scene(config), config_path)
     run_dir = Path(config.output)
     run_dir.mkdir(parents=True, exist_ok=True)
     write_run_metadata(config, config_path, run_dir)
-    plan = [RouteJob(config, trial) for trial in plan_trials(config)]
+    plan = route_jobs(config)
     if force:
         for job in plan:
             job.result_path(run_dir).unlink(missing_ok=True)
@@ -276,12 +441,12 @@ def run_route_experiment(
     n_jobs = jobs if jobs is not None else config.jobs
     outcomes = run_parallel(run_route_job, todo, run_dir, n_jobs, "routes", show_progress)
     records = [read_json_record(job.result_path(run_dir), job.key) for job in plan]
-    table = route_table([r for r in records if r is not None])
+    table = route_table([r for r in records if r is not None], config.success_radius_m)
     table_path = run_dir / TABLE_PATH
     table_path.parent.mkdir(parents=True, exist_ok=True)
     write_text_atomic(table_path, table.to_csv(index=False))
     failures = tuple(outcome for outcome in outcomes if outcome.error)
-    return RouteRunOutcome(run_dir, table, table_path, len(todo), len(plan) - len(todo), failures)
+    return TrialRunOutcome(run_dir, table, table_path, len(todo), len(plan) - len(todo), failures)
 
 
 def route_scene(config: RouteConfig) -> Scene:

@@ -67,6 +67,27 @@ class Outbound:
         return len(self.images) - 1
 
 
+def drive_route(
+    robot: Robot, waypoints: ArrayLike, limits: MotionLimits
+) -> tuple[FloatArray, FloatArray]:
+    """Drive from the robot's pose through ``waypoints[1:]`` (k, 2): the true poses and the
+    odometry poses (n, 3), the start first, one row per step (a frame)."""
+    poses, belief = [robot.pose], [robot.odometry]
+    tolerance = WAYPOINT_TOLERANCE * limits.step_length
+    for target in np.asarray(waypoints, dtype=np.float64)[1:]:
+        xy = (float(target[0]), float(target[1]))
+        for _ in drive_to(robot, xy, limits, by_odometry=False, tolerance=tolerance):
+            poses.append(robot.pose)
+            belief.append(robot.odometry)
+    return as_array(poses), as_array(belief)
+
+
+def as_pose(row: ArrayLike) -> Pose:
+    """A pose row (x, y, heading) as a :class:`Pose`."""
+    x, y, heading = (float(v) for v in np.asarray(row, dtype=np.float64))
+    return Pose(x, y, heading)
+
+
 def drive_outbound(
     robot: Robot,
     waypoints: ArrayLike,
@@ -75,19 +96,14 @@ def drive_outbound(
     tracker: KltTracker,
 ) -> Outbound:
     """Drive from the robot's pose through ``waypoints[1:]`` (k, 2), tracking corners."""
-    images = [camera(robot.pose, 0)]
-    poses, belief = [robot.pose], [robot.odometry]
+    poses, belief = drive_route(robot, waypoints, limits)
+    images = [camera(as_pose(poses[0]), 0)]
     tracks = Tracks.start(tracker.detect(images[0]))
     log = FeatureLog()
     log.record(tracks)
-    tolerance = WAYPOINT_TOLERANCE * limits.step_length
-    for target in np.asarray(waypoints, dtype=np.float64)[1:]:
-        xy = (float(target[0]), float(target[1]))
-        for _ in drive_to(robot, xy, limits, by_odometry=False, tolerance=tolerance):
-            image = camera(robot.pose, len(images))
-            tracks = tracker.step(images[-1], tracks, image, replenish=True).survivors()
-            log.record(tracks)
-            images.append(image)
-            poses.append(robot.pose)
-            belief.append(robot.odometry)
-    return Outbound(as_array(poses), as_array(belief), images, log)
+    for k, pose in enumerate(poses[1:], start=1):
+        image = camera(as_pose(pose), k)
+        tracks = tracker.step(images[-1], tracks, image, replenish=True).survivors()
+        log.record(tracks)
+        images.append(image)
+    return Outbound(poses, belief, images, log)

@@ -1,0 +1,241 @@
+"""The config of a closed-loop homing experiment: YAML -> validated, frozen objects.
+
+Dispatched on ``kind: closed-loop``. Example (see ``configs/closed_loop.yaml``)::
+
+    kind: closed-loop
+    name: closed-loop
+    output: runs/closed_loop
+    world: {seed: 0, style: posters}      # a generated world (WorldSpec), or
+    # database: synth-original            # a grid database: the nearest grid images
+    styles: [posters, lab]                # optional: sweep the world's style
+    frame: grid                           # goals and starts in metres from the capture grid's
+                                          # origin (one config fits every style), or world
+    methods:                              # grid-config method entries (labels, params, grid)
+      - {method: warping}
+      - {method: alv, compass: truth}     # an external compass (see below)
+    controls: [truth, random]             # built-in pseudo-methods (see homers.py)
+    goals: [{at: [1.35, 2.4]}, {grid: [4, 8]}]   # metres, or capture-grid indices
+    starts: {spacing: 0.3, region: [0, 0, 2.7, 4.8]}   # a lattice, or {random: 100, seed: 1}
+    motion: {step_length: 0.1, max_turn_deg: 30, success_radius: 0.15, budget_factor: 3}
+    render: {lattice: 0.02}
+
+Defaults and why:
+
+- ``motion.step_length`` 0.10 m, ``max_turn_deg`` 30: a tenth of a typical start distance per
+  step keeps the loop affordable (every step is a render) while the turn limit still lets a
+  robot facing away turn round in 6 steps.
+- ``success_radius`` 0.15 m: half the papers' 0.30 m grid spacing (seed 001's RR success
+  radius of 0.5 grid units).
+- ``budget_factor`` 3: give up after 3 x the straight-line start distance (seed 001's RR
+  gives up after half the grid's perimeter; a factor scales with the start instead);
+  ``budget_m`` (None) adds an absolute cap; ``max_steps`` 150 bounds turning on the spot (a
+  method that never points within the turn limit turns for ever): 3 x the 50 driving steps of
+  a 5 m budget.
+- ``min_start_distance`` 2 x the success radius: a start must not begin at home.
+- ``no_estimate: continue``: drive straight on (the previous heading), as a robot whose
+  controller keeps its last command; ``stop`` ends the trial.
+- a method entry's ``compass`` (``none``, as in grid configs): ``truth`` is an external compass
+  (the robot turns its view to the goal snapshot's heading before asking, as the papers align
+  their views), ``visual`` the visual compass (the view turned back by the RIDF minimum against
+  the goal snapshot); with ``none`` the method sees the view at the robot's own heading.
+- ``render.lattice`` 0.02 m: views are rendered at positions snapped to a 2 cm lattice, below
+  the step length, so the snapping moves the camera by at most 1.4 cm.
+
+Checks that need the world (goals in free space) happen when the experiment starts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import Discriminator, Field, Tag, field_validator, model_validator
+
+from homebench.config import MethodEntry, UnfoldConfig, _Strict, check_entries, method_points
+from homebench.data.synth.spec import Style, WorldSpec
+from homebench.experiments.robot import DriftModel, MotionLimits
+from homebench.yamlio import load_model
+
+Control = Literal["truth", "random"]
+CONTROLS: tuple[Control, ...] = ("truth", "random")
+#: Region of the floor: (x_min, y_min, x_max, y_max), metres.
+Region = tuple[float, float, float, float]
+
+
+class GoalSpec(_Strict):
+    """A goal: ``at`` (x, y) metres in the config's frame, or ``grid`` (i, j) capture-grid
+    indices; ``heading_deg`` of its snapshot (default 0)."""
+
+    at: tuple[float, float] | None = None
+    grid: tuple[int, int] | None = None
+    heading_deg: float = 0.0
+
+    @model_validator(mode="before")
+    @classmethod
+    def _bare_point(cls, data: Any) -> Any:
+        return {"at": data} if isinstance(data, list | tuple) else data
+
+    @model_validator(mode="after")
+    def _one_place(self) -> GoalSpec:
+        if (self.at is None) == (self.grid is None):
+            raise ValueError("give a goal exactly one of 'at' (metres) and 'grid' (indices)")
+        return self
+
+
+def _ordered(region: Region | None) -> Region | None:
+    if region is not None and not (region[0] < region[2] and region[1] < region[3]):
+        raise ValueError(f"region {list(region)} is not [x_min, y_min, x_max, y_max]")
+    return region
+
+
+class LatticeStarts(_Strict):
+    """Starts on a square lattice of ``spacing`` metres over ``region`` (default: the capture
+    grid's extent), the first node at the region's corner; each start's cell is spacing^2.
+    ``heading_deg``: every start's heading (world frame); None: seeded uniform headings."""
+
+    spacing: float = Field(gt=0)
+    region: Region | None = None
+    heading_deg: float | None = None
+
+    _region = field_validator("region")(_ordered)
+
+
+class RandomStarts(_Strict):
+    """``random`` starts drawn uniformly over ``region`` (seeded by ``seed``); each stands for
+    region area / random of the floor. ``heading_deg`` as for lattice starts."""
+
+    random: int = Field(ge=1)
+    seed: int = Field(0, ge=0)
+    region: Region | None = None
+    heading_deg: float | None = None
+
+    _region = field_validator("region")(_ordered)
+
+
+def _starts_kind(data: Any) -> str:
+    """Which starts a mapping gives: "random" when it has that key, else "lattice"."""
+    keys = data if isinstance(data, dict) else vars(data)
+    return "random" if "random" in keys else "lattice"
+
+
+Starts = Annotated[
+    Annotated[LatticeStarts, Tag("lattice")] | Annotated[RandomStarts, Tag("random")],
+    Discriminator(_starts_kind),
+]
+
+
+class ClosedLoopMotion(MotionLimits):
+    """The robot's step and turn limits (:class:`MotionLimits`) and when a trial ends."""
+
+    step_length: float = Field(0.10, gt=0)
+    max_turn_deg: float = Field(30.0, gt=0, le=180)
+    success_radius: float = Field(0.15, gt=0)
+    budget_factor: float | None = Field(3.0, ge=1)
+    budget_m: float | None = Field(None, gt=0)
+    max_steps: int = Field(150, ge=1)
+    min_start_distance: float | None = Field(None, ge=0)  # None: 2 x success_radius
+    no_estimate: Literal["continue", "stop"] = "continue"
+
+    @model_validator(mode="after")
+    def _budget(self) -> ClosedLoopMotion:
+        if self.budget_factor is None and self.budget_m is None:
+            raise ValueError("give a path budget: budget_factor, budget_m or both")
+        if self.min_start_distance is not None and self.min_start_distance <= self.success_radius:
+            raise ValueError("min_start_distance must exceed success_radius")
+        return self
+
+    def limits(self) -> MotionLimits:
+        return MotionLimits(step_length=self.step_length, max_turn_deg=self.max_turn_deg)
+
+    def budget(self, start_distance: float) -> float:
+        """Path length (m) after which a trial from ``start_distance`` metres gives up."""
+        caps = [
+            *([self.budget_factor * start_distance] if self.budget_factor is not None else []),
+            *([self.budget_m] if self.budget_m is not None else []),
+        ]
+        return min(caps)
+
+    @property
+    def start_floor(self) -> float:
+        """Closest a start may be to its goal, metres."""
+        if self.min_start_distance is not None:
+            return self.min_start_distance
+        return 2.0 * self.success_radius
+
+
+class RenderConfig(_Strict):
+    """Views of a generated world: rendered at heading 0 on a ``lattice`` (metres) and turned
+    by whole columns; ``cache_mb`` bounds the run folder's view cache, ``memory_views`` each
+    worker's in-memory LRU. ``lattice: null`` renders every pose exactly (no cache)."""
+
+    lattice: float | None = Field(0.02, gt=0)
+    cache_mb: float = Field(2000.0, ge=0)
+    memory_views: int = Field(512, ge=0)
+
+
+class ClosedLoopConfig(_Strict):
+    """A closed-loop homing experiment: a scene, methods and controls, goals, starts, motion."""
+
+    kind: Literal["closed-loop"]
+    name: str = "closed-loop"
+    output: Path
+    seed: int = Field(0, ge=0)
+    jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
+    world: WorldSpec = WorldSpec()
+    styles: list[Style] = Field(default_factory=list)
+    database: str | None = None
+    database_path: Path | None = None
+    unfold: UnfoldConfig = UnfoldConfig()
+    frame: Literal["world", "grid"] = "grid"
+    methods: list[MethodEntry] = Field(default_factory=list)
+    controls: list[Control] = Field(default_factory=lambda: list(CONTROLS))
+    goals: list[GoalSpec] = Field(min_length=1)
+    starts: Starts
+    motion: ClosedLoopMotion = ClosedLoopMotion()
+    drift: DriftModel = DriftModel()
+    render: RenderConfig = RenderConfig()
+
+    @model_validator(mode="after")
+    def _checks(self) -> ClosedLoopConfig:
+        if self.database is not None and ("world" in self.model_fields_set or self.styles):
+            raise ValueError("give either 'world' (and 'styles') or 'database', not both")
+        if self.database_path is not None and self.database is None:
+            raise ValueError("'database_path' needs 'database'")
+        if len(set(self.styles)) != len(self.styles):
+            raise ValueError("styles must be distinct")
+        if len(set(self.controls)) != len(self.controls):
+            raise ValueError("controls must be distinct")
+        if not self.methods and not self.controls:
+            raise ValueError("name at least one method or control")
+        labels = [label for label, _, _ in self.method_points()] + list(self.controls)
+        repeated = sorted({label for label in labels if labels.count(label) > 1})
+        if repeated:
+            raise ValueError(
+                f"methods: label {repeated[0]!r} used twice (controls are labelled truth and "
+                "random); give each entry a label"
+            )
+        return self
+
+    def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
+        """(label, method name, params) of every method entry and grid point, config order."""
+        return method_points(self.methods)
+
+    def labels(self) -> list[str]:
+        """Every method label, then the controls."""
+        return [label for label, _, _ in self.method_points()] + list(self.controls)
+
+    def worlds(self) -> list[WorldSpec | None]:
+        """The world of each swept style (the world itself without styles); [None] for a
+        database."""
+        if self.database is not None:
+            return [None]
+        return [self.world.model_copy(update={"style": s}) for s in self.styles] or [self.world]
+
+
+def load_closed_loop_config(path: Path, overrides: Sequence[str] = ()) -> ClosedLoopConfig:
+    """Read and validate a closed-loop config with ``key.path=value`` ``overrides``; problems
+    are ConfigErrors naming file and key. Methods are checked by creating them."""
+    config = load_model(ClosedLoopConfig, path, what="config", overrides=overrides)
+    check_entries(path, config.methods, robot="closed-loop")
+    return config

@@ -1,0 +1,232 @@
+"""Route homing with any pairwise method: leg by leg from snapshot to snapshot.
+
+The targets are the snapshots stored on the way out (:mod:`~.snapshots`), visited backwards to
+home. At each step of a leg the robot takes its view (the scene's camera), asks the method for
+the home direction towards the target snapshot (``describe`` both views, ``home``), turns by at
+most the turn limit and steps ``step_length`` (:func:`~homebench.experiments.robot.steer`: a
+step that must turn further than the limit only turns).
+
+**Arrival** (when the robot switches to the next snapshot), an option of :class:`Arrival`:
+
+- ``minimum`` (default): what the robot sees. The view distance to the target
+  (:func:`~.snapshots.view_distance`, independent of the heading) falls as the robot nears the
+  snapshot's place and rises once it has passed it (Zeil et al. 2003). The leg ends when the
+  distance has not fallen below its best value (by more than ``min_decrease``, relative) for
+  ``patience`` forward steps: the robot has passed the minimum. Steps that only turn do not
+  count (a turn on the spot leaves the distance as it is).
+- ``oracle``: the true position within ``radius_m`` of the snapshot's, a pose oracle for
+  comparisons, never the default.
+
+On the home leg the robot then drives back by odometry to where the view distance was smallest
+(``return_to_best``, with ``minimum``; a few steps, over which the odometry error is small),
+and turns by the method's rotation estimate there, if it gives one (``align``), to face its
+starting heading.
+
+A step where the method gives no direction drives straight on (the last command's heading, as
+a controller that keeps its last command); ``max_no_estimate`` of them in a row end the leg as
+``lost``. A leg gives up after ``max_leg_steps`` steps; a pose the scene cannot show (inside an
+object, out of the room) ends the run as ``collision``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from pydantic import BaseModel, ConfigDict, Field
+
+from homebench.data.synth.world import PoseError
+from homebench.experiments.homing import MethodHomer
+from homebench.experiments.robot import MotionLimits, Robot, drive_to, steer, turn_to
+from homebench.experiments.route.snapshots import SnapshotRule, view_distance
+from homebench.geometry import Pose
+from homebench.methods.base import HomingEstimate
+
+LegStatus = Literal["reached", "lost", "steps", "collision"]
+#: The robot's eyes: the unfolded panorama at a pose as frame k (the scene's camera).
+Look = Callable[[Pose, int], NDArray[np.uint8]]
+
+
+class Arrival(BaseModel):
+    """When a leg's target counts as reached: ``criterion`` ``minimum`` (``patience`` forward
+    steps without a new smallest view distance, ``min_decrease`` relative) or ``oracle``
+    (within ``radius_m`` of the target's true position); each reads its own fields only."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    criterion: Literal["minimum", "oracle"] = "minimum"
+    patience: int = Field(2, ge=1)
+    min_decrease: float = Field(0.0, ge=0, lt=1)
+    radius_m: float = Field(0.05, gt=0)
+
+
+class PairwiseParams(BaseModel):
+    """Route homing with a pairwise method: the ``snapshots`` rule, the ``arrival`` criterion,
+    ``max_leg_steps``, ``max_no_estimate`` (steps without a direction in a row before a leg is
+    lost), ``return_to_best`` and ``align`` on the home leg (see the module docstring)."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    snapshots: SnapshotRule = SnapshotRule()
+    arrival: Arrival = Arrival()
+    max_leg_steps: int = Field(200, ge=1)
+    max_no_estimate: int = Field(5, ge=1)
+    return_to_best: bool = True
+    align: bool = True
+
+
+@dataclass(frozen=True)
+class Target:
+    """A snapshot to home to: its outbound ``frame``, the ``image`` (rows, columns) uint8 for
+    the view distance, the ``homer`` (the method with its features of it and the entry's
+    compass) and its true ``pose`` (for the oracle, a true compass and the records)."""
+
+    frame: int
+    image: NDArray[np.uint8]
+    homer: MethodHomer
+    pose: Pose
+
+
+@dataclass(frozen=True)
+class PairwiseLeg:
+    """One leg: ``target`` frame, ``steps`` taken (turns included), steps ``without`` a
+    direction, the view distance at the start (``distance_start``) and its smallest value
+    (``distance_best``), ``status``, and the true distance to the target's place at the end
+    (``miss_m``, metres)."""
+
+    target: int
+    steps: int
+    without: int
+    distance_start: float
+    distance_best: float
+    status: LegStatus
+    miss_m: float
+
+
+@dataclass
+class PairwiseHoming:
+    """The homing run: true ``poses`` (the start first), the ``legs``."""
+
+    poses: list[Pose] = field(default_factory=list)
+    legs: list[PairwiseLeg] = field(default_factory=list)
+
+    @property
+    def status(self) -> LegStatus:
+        return self.legs[-1].status if self.legs else "reached"
+
+    def legs_as_dicts(self) -> list[dict[str, Any]]:
+        return [asdict(leg) for leg in self.legs]
+
+
+def grey(image: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """A panorama (rows, columns) or (rows, columns, 3) as grey levels (rows, columns)."""
+    return image if image.ndim == 2 else np.mean(image, axis=2).astype(np.uint8)
+
+
+class _Leg:
+    """The running state of one leg: steps, the best view distance and where it was seen."""
+
+    def __init__(self, target: Target, robot: Robot) -> None:
+        self.target, self.steps, self.without, self.since_best = target, 0, 0, 0
+        self.start = self.best = math.inf
+        self.best_odometry = robot.odometry
+
+    def saw(self, distance: float, robot: Robot, moved: bool, arrival: Arrival) -> bool:
+        """Record the view distance at the robot's pose; True when the target is reached."""
+        if not math.isfinite(self.start):
+            self.start = distance
+        if distance < self.best * (1.0 - arrival.min_decrease) or not math.isfinite(self.best):
+            self.best, self.best_odometry, self.since_best = distance, robot.odometry, 0
+        elif moved:
+            self.since_best += 1
+        if arrival.criterion == "oracle":
+            return math.dist(robot.pose.xy, self.target.pose.xy) <= arrival.radius_m
+        return self.since_best >= arrival.patience
+
+    def result(self, status: LegStatus, robot: Robot) -> PairwiseLeg:
+        miss = math.dist(robot.pose.xy, self.target.pose.xy)
+        return PairwiseLeg(
+            self.target.frame, self.steps, self.without, self.start, self.best, status, miss
+        )
+
+
+def home_pairwise(
+    robot: Robot,
+    targets: list[Target],
+    look: Look,
+    limits: MotionLimits,
+    params: PairwiseParams,
+) -> PairwiseHoming:
+    """Home from the robot's pose through ``targets`` (visiting order, home last) with the
+    targets' homers (a pairwise method each); ``look`` frames numbered from 0."""
+    result = PairwiseHoming([robot.pose])
+
+    def take() -> NDArray[np.uint8] | None:
+        try:
+            return grey(look(robot.pose, len(result.poses) - 1))
+        except PoseError:
+            return None
+
+    image = take()
+    for k, target in enumerate(targets):
+        leg, moved = _Leg(target, robot), False
+        while True:
+            if image is None:
+                status: LegStatus = "collision"
+                break
+            if leg.saw(view_distance(image, target.image), robot, moved, params.arrival):
+                status = "reached"
+                break
+            if leg.steps == params.max_leg_steps:
+                status = "steps"
+                break
+            estimate: HomingEstimate = target.homer.estimate(robot.pose, image)
+            if estimate.angle is None:
+                leg.without += 1
+                if leg.without >= params.max_no_estimate:
+                    status = "lost"
+                    break
+                direction = 0.0
+            else:
+                leg.without, direction = 0, float(estimate.angle)
+            command = steer(direction, limits.step_length, limits)
+            robot.execute(command)
+            moved, leg.steps = command.forward > 0, leg.steps + 1
+            result.poses.append(robot.pose)
+            image = take()
+        home = k == len(targets) - 1
+        if status == "reached" and home:
+            _settle(robot, leg, look, limits, params, result)
+        result.legs.append(leg.result(status, robot))
+        if status != "reached":
+            return result
+    return result
+
+
+def _settle(
+    robot: Robot,
+    leg: _Leg,
+    look: Look,
+    limits: MotionLimits,
+    params: PairwiseParams,
+    result: PairwiseHoming,
+) -> None:
+    """At home: back to the best view's odometry pose, then turn by the rotation estimate."""
+    if params.return_to_best and params.arrival.criterion == "minimum":
+        best = leg.best_odometry
+        for _ in drive_to(robot, (best.x, best.y), limits, by_odometry=True):
+            result.poses.append(robot.pose)
+    if not params.align:
+        return
+    try:
+        image = grey(look(robot.pose, len(result.poses) - 1))
+    except PoseError:
+        return
+    estimate = leg.target.homer.estimate(robot.pose, image)
+    if estimate.rotation is not None:
+        for _ in turn_to(robot, robot.odometry.heading - estimate.rotation, limits):
+            result.poses.append(robot.pose)
