@@ -249,6 +249,18 @@ def _odometry_baseline(
     return summary, arrays
 
 
+def _record_head(trial: RouteTrial, label: str) -> dict[str, Any]:
+    """The fields every trial record starts with: format, trial, method, route, home pose."""
+    home = trial.home
+    return {
+        "format": ROUTE_FORMAT,
+        "trial": trial.name,
+        "method": label,
+        "waypoints": [list(p) for p in trial.waypoints],
+        "home": [home.x, home.y, home.heading],
+    }
+
+
 def run_trial(config: RouteConfig, trial: RouteTrial, label: str = KLT_SECTOR) -> dict[str, Any]:
     """Drive, track, home visually (klt-sector, the entry ``label``) and by odometry; the
     trial's record (JSON-ready)."""
@@ -291,11 +303,7 @@ def run_trial(config: RouteConfig, trial: RouteTrial, label: str = KLT_SECTOR) -
         **odometry,
     }
     record = {
-        "format": ROUTE_FORMAT,
-        "trial": trial.name,
-        "method": label,
-        "waypoints": [list(p) for p in trial.waypoints],
-        "home": [home.x, home.y, home.heading],
+        **_record_head(trial, label),
         "outbound": outbound.poses.tolist(),
         "outbound_odometry": outbound.odometry.tolist(),
         "lifecycles": lifecycles.tolist(),
@@ -378,11 +386,7 @@ def run_pairwise_trial(config: RouteConfig, trial: RouteTrial, label: str) -> di
         **odometry,
     }
     record = {
-        "format": ROUTE_FORMAT,
-        "trial": trial.name,
-        "method": label,
-        "waypoints": [list(p) for p in trial.waypoints],
-        "home": [home.x, home.y, home.heading],
+        **_record_head(trial, label),
         "outbound": poses.tolist(),
         "outbound_odometry": belief.tolist(),
         "snapshots": frames,
