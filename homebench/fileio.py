@@ -281,11 +281,25 @@ def _to_grey_uint8(image: NDArray, path: Path) -> NDArray[np.uint8]:
     return cv2.cvtColor(image, conversions[channels])
 
 
+#: Largest result record (bytes) read from a run folder; larger files count as corrupt. A grid
+#: job's record or a robot trial's is well under 1 MB; a run folder may come from anyone.
+MAX_RECORD_BYTES = 64 << 20
+
+
+def read_record_text(path: Path) -> str:
+    """The text of a result record; ValueError when it is larger than MAX_RECORD_BYTES (checked
+    before reading), OSError when it cannot be read."""
+    size = Path(path).stat().st_size
+    if size > MAX_RECORD_BYTES:
+        raise ValueError(f"larger than {MAX_RECORD_BYTES} bytes")
+    return Path(path).read_text(encoding="utf-8")
+
+
 def read_json_record(path: Path, key: str) -> dict[str, Any] | None:
     """The JSON object in ``path`` whose "key" is ``key``; None if the file is missing,
-    unreadable, corrupt, or holds another key (so the caller recomputes it)."""
+    unreadable, corrupt, too large, or holds another key (so the caller recomputes it)."""
     try:
-        record = json.loads(Path(path).read_text(encoding="utf-8"))
+        record = json.loads(read_record_text(path))
     except (OSError, ValueError):
         return None
     if not isinstance(record, dict) or record.get("key") != key:

@@ -147,3 +147,21 @@ def test_read_grey_keeps_the_high_byte_of_16_bit_images(tmp_path: Path) -> None:
     image = _image().astype(np.uint16) * 256 + 7  # high byte: the 8-bit image
     cv2.imwrite(str(tmp_path / "deep.png"), image)
     np.testing.assert_array_equal(read_grey(tmp_path / "deep.png"), _image())
+
+
+def test_a_result_record_larger_than_the_bound_is_not_read(tmp_path: Path, monkeypatch) -> None:
+    """A run folder may come from someone else: a record file beyond MAX_RECORD_BYTES is
+    treated as corrupt (recomputed, or reported as such) without reading it into memory."""
+    import homebench.fileio as fileio
+    from homebench.experiments.trials import read_trial
+
+    path = tmp_path / "trials" / "t.json"
+    path.parent.mkdir()
+    path.write_text('{"key": "k", "summary": {}, "pad": "' + "x" * 2000 + '"}')
+    assert fileio.read_json_record(path, "k") is not None
+    assert isinstance(read_trial(path, tmp_path, "t", "k"), dict)
+    monkeypatch.setattr(fileio, "MAX_RECORD_BYTES", 1000)
+    assert fileio.read_json_record(path, "k") is None
+    assert read_trial(path, tmp_path, "t", "k") == (
+        "trials/t.json (trial t: corrupt, larger than 1000 bytes)"
+    )

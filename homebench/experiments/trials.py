@@ -14,6 +14,7 @@ from typing import Any
 import pandas as pd
 
 from homebench.evaluation.jobs import JobOutcome
+from homebench.fileio import read_record_text
 
 
 @dataclass(frozen=True)
@@ -34,7 +35,7 @@ def read_trial(path: Path, run_dir: Path, trial: str, key: str) -> dict[str, Any
     trial's ``key``), or why there is none: "routes/x.json (trial x: missing)"."""
     where = f"{path.relative_to(run_dir).as_posix()} (trial {trial}"
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
+        record = json.loads(read_record_text(path))
     except FileNotFoundError:
         return f"{where}: missing)"
     except (OSError, ValueError) as error:
