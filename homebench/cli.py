@@ -165,6 +165,20 @@ def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] |
 # --------------------------------------------------------------------------- methods and runs
 
 
+#: What ``homebench methods`` says of the entry-level compass, before the methods.
+COMPASS_LISTING = """\
+Every method entry also takes:
+    compass = 'none' (one of none | visual | truth)
+        How the current view is aligned with the goal's before the method sees it (grid, route
+        and closed-loop configs). none: as stored (a grid database taken at one heading; in the
+        robot experiments the robot's own heading). visual: turned back by this visual
+        compass's estimate (the RIDF minimum). truth: turned back by the true heading change in
+        whole columns, an ideal compass.
+        [reading: the papers of alv, snapshot, block-matching and mfdid align their views with
+         an external compass: none on a grid database, truth for a robot]
+"""
+
+
 @main.command()
 def methods() -> None:
     """List the registered homing methods: each parameter's type, default and meaning, and
@@ -173,6 +187,7 @@ def methods() -> None:
     from homebench.methods.params import method_listing
 
     try:
+        click.echo(COMPASS_LISTING)
         for name, cls in registry.available().items():
             click.echo("\n".join(method_listing(name, cls)))
         for name, reason in registry.broken().items():

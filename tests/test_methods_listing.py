@@ -33,6 +33,13 @@ def test_every_builtin_lists_its_summary_and_documented_parameters():
             assert " ".join(doc.meaning.split()[:4]) in out  # its start (the text is wrapped)
 
 
+def test_the_entry_level_compass_is_listed_with_the_papers_reading():
+    out = _listing()
+    assert "Every method entry also takes:" in out
+    assert "    compass = 'none' (one of none | visual | truth)" in out
+    assert "external compass" in out
+
+
 def test_departures_and_readings_are_marked():
     out = _listing()
     assert "    ahead_filter = False (bool)" in out
