@@ -52,13 +52,14 @@ from homebench.report.tables import (
     FIXED3,
     P_VALUE,
     SIGNIFICANT3,
-    Digits,
+    Columns,
     TableView,
     make_view,
+    scaled_columns,
 )
 
 #: Summary columns: source -> (header with unit, digits, scale); None digits: text.
-SUMMARY_COLUMNS: dict[str, tuple[str, Digits | None, float]] = {
+SUMMARY_COLUMNS: Columns = {
     "style": ("style", None, 1.0),
     "method": ("method", None, 1.0),
     "trials": ("trials", FIXED0, 1.0),
@@ -73,7 +74,7 @@ SUMMARY_COLUMNS: dict[str, tuple[str, Digits | None, float]] = {
     "collisions": ("collisions", FIXED0, 1.0),
     "s_per_step": ("time per step [ms]", SIGNIFICANT3, 1000.0),
 }
-CATCHMENT_COLUMNS: dict[str, tuple[str, Digits | None, float]] = {
+CATCHMENT_COLUMNS: Columns = {
     "style": ("style", None, 1.0),
     "method": ("method", None, 1.0),
     "goal": ("goal", FIXED0, 1.0),
@@ -82,7 +83,7 @@ CATCHMENT_COLUMNS: dict[str, tuple[str, Digits | None, float]] = {
     "catchment_m2": ("catchment [m^2]", FIXED2, 1.0),
     "covered_m2": ("floor the starts cover [m^2]", FIXED2, 1.0),
 }
-PAIRED_COLUMNS: dict[str, tuple[str, Digits | None, float]] = {
+PAIRED_COLUMNS: Columns = {
     "style": ("style", None, 1.0),
     "method_a": ("method A", None, 1.0),
     "method_b": ("method B", None, 1.0),
@@ -200,14 +201,8 @@ def closed_loop_summary(run: ClosedLoopRun) -> dict[str, list[str]]:
 # --------------------------------------------------------------------------- tables
 
 
-def _view(name: str, title: str, frame: pd.DataFrame, columns: dict, **kwargs: Any) -> TableView:
-    out, digits = pd.DataFrame(index=frame.index), {}
-    for source, (header, rule, scale) in columns.items():
-        if rule is None:
-            out[header] = frame[source].astype(str)
-        else:
-            out[header] = pd.to_numeric(frame[source], errors="coerce").astype(float) * scale
-            digits[header] = rule
+def _view(name: str, title: str, frame: pd.DataFrame, columns: Columns, **kwargs: Any) -> TableView:
+    out, digits = scaled_columns(frame, columns)
     return make_view(name, title, out, digits, **kwargs)
 
 

@@ -37,14 +37,21 @@ from homebench.report.route_compare import (
 from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
 from homebench.report.run_data import CONFIG_FILE, RunInfo, validation_error
 from homebench.report.style import MAX_COLUMNS, method_styles
-from homebench.report.tables import FIXED0, FIXED1, FIXED2, Digits, TableView, make_view
+from homebench.report.tables import (
+    FIXED0,
+    FIXED1,
+    FIXED2,
+    Columns,
+    TableView,
+    make_view,
+    scaled_columns,
+)
 
 #: Trajectory panels per page (one row).
 PANELS_PER_PAGE = MAX_COLUMNS
 #: The status of a visual homing run that reached home.
 REACHED = "reached"
 #: Table columns: source column -> (header with unit, digits or None for text, scale).
-Columns = dict[str, tuple[str, Digits | None, float]]
 
 #: Columns of the per-trial table: summary key -> (header, digits, scale); None: text.
 TRIAL_COLUMNS: Columns = {
@@ -271,24 +278,11 @@ def trial_frame(run: RouteRun) -> pd.DataFrame:
     return pd.DataFrame([trial.summary for trial in run.trials])
 
 
-def _scaled(frame: pd.DataFrame, columns: Columns) -> tuple[pd.DataFrame, dict[str, Digits]]:
-    """``frame``'s ``columns`` renamed to their headers, numbers scaled; the headers' digits."""
-    out = pd.DataFrame(index=frame.index)
-    digits = {}
-    for source, (header, rule, scale) in columns.items():
-        if rule is None:
-            out[header] = frame[source].astype(str)
-        else:
-            out[header] = pd.to_numeric(frame[source], errors="coerce").astype(float) * scale
-            digits[header] = rule
-    return out, digits
-
-
 def trials_view(run: RouteRun) -> TableView:
     """One row per trial (and method, when the run compares several): route length, features,
     intermediate positions, final errors."""
     columns = {"method": ("method", None, 1.0), **TRIAL_COLUMNS} if run.compared else TRIAL_COLUMNS
-    frame, digits = _scaled(trial_frame(run), columns)
+    frame, digits = scaled_columns(trial_frame(run), columns)
     title = "Route homing per trial: visual homing and odometry, final errors at home"
     return make_view("routes", title, frame, digits)
 
@@ -312,7 +306,7 @@ def by_length_view(run: RouteRun) -> TableView:
         visual_heading=("visual_heading_error_deg", "mean"),
         odometry_heading=("odometry_heading_error_deg", "mean"),
     ).reset_index()
-    shown, digits = _scaled(table, LENGTH_COLUMNS)
+    shown, digits = scaled_columns(table, LENGTH_COLUMNS)
     title = "Route homing per route length (means over trials; length: planned, route: driven)"
     return make_view("routes_by_length", title, shown, digits)
 

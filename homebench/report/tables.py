@@ -550,3 +550,20 @@ def write_views(views: list[TableView], folder: Path) -> list[Path]:
             write_text_atomic(path, render(view))
             written.append(path)
     return written
+
+
+#: Report columns: source column -> (header with unit, digits or None for text, scale factor).
+Columns = dict[str, tuple[str, Digits | None, float]]
+
+
+def scaled_columns(frame: pd.DataFrame, columns: Columns) -> tuple[pd.DataFrame, dict[str, Digits]]:
+    """``frame``'s ``columns`` renamed to their headers, numbers scaled; the headers' digits."""
+    out = pd.DataFrame(index=frame.index)
+    digits = {}
+    for source, (header, rule, scale) in columns.items():
+        if rule is None:
+            out[header] = frame[source].astype(str)
+        else:
+            out[header] = pd.to_numeric(frame[source], errors="coerce").astype(float) * scale
+            digits[header] = rule
+    return out, digits
