@@ -233,3 +233,22 @@ def test_a_current_on_the_route_to_a_farther_one_costs_no_tracking(monkeypatch):
         np.testing.assert_array_equal(near[0], goal_xy)
         np.testing.assert_array_equal(near[1], current_xy)
     assert len(steps) == len(views)  # not one step more
+
+
+def test_route_views_need_no_corners_of_their_own():
+    """``describe_route`` (what the engine uses for route views) skips corner detection and
+    gives the answer of fully described route views: tracking reads only the goal's corners."""
+    current = Pose(GOAL.x + 0.6, GOAL.y - 0.2, GOAL.heading)
+    poses = route_views(GOAL, current, 0.15)
+    bare = KltSector().describe_route(render(poses[0]))
+    assert bare.corners.shape == (0, 2) and bare.digest
+    assert bare.digest == KltSector().describe(render(poses[0])).digest
+    described = estimate(KltSector(), current, 0.15)
+    method = KltSector()
+    routed = method.home(
+        method.describe(render(current)),
+        method.describe(render(GOAL)),
+        [method.describe_route(render(pose)) for pose in poses],
+    )
+    assert routed.angle == described.angle and routed.n_landmarks == described.n_landmarks
+    assert routed.rotation == described.rotation

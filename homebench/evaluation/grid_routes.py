@@ -1,23 +1,63 @@
-"""Routes between grid positions: the intermediate views route-based methods track through."""
+"""Routes between grid positions: the intermediate views route-based methods track through.
+
+Two shapes (:data:`RouteShape`). ``line``: the grid positions passed on the straight line from
+the start to the end. ``tree``: the route to the last position before the end on that line,
+then that position, so every route from one start extends a shorter one and the routes from a
+start form a tree with one edge per grid position: a method that tracks features along routes
+tracks them once per position (its routes still follow the line to within about a grid unit).
+"""
 
 from __future__ import annotations
 
 import math
+from functools import lru_cache
+from typing import get_args
 
 import numpy as np
 
 from homebench.geometry import Grid
+from homebench.methods.base import RouteShape
+
+ROUTE_SHAPES: tuple[RouteShape, ...] = get_args(RouteShape)
 
 
 def grid_route(
+    grid: Grid,
+    start: tuple[int, int],
+    end: tuple[int, int],
+    step: float,
+    shape: RouteShape = "line",
+) -> list[tuple[int, int]]:
+    """Grid positions on the route of ``shape`` from ``start`` to ``end`` (both excluded).
+
+    ``line``: points every ``step`` grid units along the straight line are snapped to the
+    nearest grid position and repeats dropped, so neighbouring positions follow each other
+    (8-connected for ``step`` <= 1). ``tree``: the ``tree`` route to the last of those
+    positions, then that position (8-connected too). ``step`` <= 0 gives no intermediate
+    positions.
+    """
+    if shape == "tree":
+        return list(_tree_route(grid, tuple(start), tuple(end), float(step)))
+    if shape != "line":
+        raise ValueError(f"unknown route shape {shape!r}; choose from {ROUTE_SHAPES}")
+    return _line_route(grid, start, end, step)
+
+
+def method_route(
+    method: object, grid: Grid, goal: tuple[int, int], current: tuple[int, int]
+) -> list[tuple[int, int]]:
+    """The intermediate positions a route-based method (``uses_route``) tracks through from
+    ``goal`` to ``current``: its ``route_step`` (default 0: none) and ``route_shape`` (default
+    ``line``); [] for other methods."""
+    if not getattr(method, "uses_route", False):
+        return []
+    step = float(getattr(method, "route_step", 0.0))
+    return grid_route(grid, goal, current, step, getattr(method, "route_shape", "line"))
+
+
+def _line_route(
     grid: Grid, start: tuple[int, int], end: tuple[int, int], step: float
 ) -> list[tuple[int, int]]:
-    """Grid positions passed on the straight line from ``start`` to ``end`` (both excluded).
-
-    Points every ``step`` grid units along the line are snapped to the nearest grid position
-    and repeats dropped, so neighbouring positions follow each other (8-connected for
-    ``step`` <= 1). ``step`` <= 0 gives no intermediate positions.
-    """
     if step <= 0:
         return []
     a = np.asarray(start, dtype=np.float64)
@@ -30,3 +70,23 @@ def grid_route(
         if node not in (tuple(start), tuple(end)) and (not nodes or nodes[-1] != node):
             nodes.append(node)
     return [node for node in nodes if grid.contains(*node)]
+
+
+@lru_cache(maxsize=65536)
+def _tree_route(
+    grid: Grid, start: tuple[int, int], end: tuple[int, int], step: float
+) -> tuple[tuple[int, int], ...]:
+    """The ``tree`` route (cached: a start's routes share their prefixes). The last position
+    before ``end`` on the line is closer to ``start`` than ``end`` is (it is ``end`` moved
+    towards ``start`` by at most a column and a row), so the recursion ends."""
+    line = _line_route(grid, start, end, step)
+    if not line:
+        return ()
+    parent = line[-1]
+    if _squared(parent, start) >= _squared(end, start):  # not reached (see above); a guard
+        return tuple(line)
+    return (*_tree_route(grid, start, parent, step), parent)
+
+
+def _squared(a: tuple[int, int], b: tuple[int, int]) -> int:
+    return (a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2

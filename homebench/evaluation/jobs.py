@@ -28,7 +28,7 @@ import numpy as np
 
 from homebench.errors import DataError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
-from homebench.evaluation.grid_routes import grid_route
+from homebench.evaluation.grid_routes import method_route
 from homebench.evaluation.metrics import angular_errors
 from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask, neighbour_positions
 from homebench.evaluation.sources import load_view, open_source
@@ -136,21 +136,25 @@ def _features(task: ImageTask, run_dir: Path, job: HomeJob) -> StoredFeatures:
 class _GridViews:
     """Features of more grid views than the pair's two, described once per job, from the
     current database (the robot's world) at its stored headings: the views along the route
-    from the goal for methods that track (``uses_route``, their ``route_step``), the grid
-    neighbours of the current view for methods that sample around it (``uses_neighbours``,
-    their ``neighbour_step``)."""
+    from the goal for methods that track (``uses_route``, see
+    :func:`~homebench.evaluation.grid_routes.method_route`), the grid neighbours of the
+    current view for methods that sample around it (``uses_neighbours``, their
+    ``neighbour_step``)."""
 
     def __init__(self, job: HomeJob, method: Any):
         self.job, self.method = job, method
         self.source = job.currents[0].source
         self.grid = self.source.grid
-        self.cache: dict[tuple[int, int, float], Any] = {}
+        self.cache: dict[tuple[int, int, float, bool], Any] = {}
 
-    def _describe(self, i: int, j: int, rotation: float = 0.0) -> Any:
-        if (i, j, rotation) not in self.cache:
+    def _describe(self, i: int, j: int, rotation: float = 0.0, route: bool = False) -> Any:
+        """Features of a view (a route view's by the method's ``describe_route`` if it has
+        one: a tracker needs the image, not the view's own corners)."""
+        if (i, j, rotation, route) not in self.cache:
             view = load_view(self.source, i, j, self.job.method.image_kind, rotation)
-            self.cache[(i, j, rotation)] = self.method.describe(view)
-        return self.cache[(i, j, rotation)]
+            describe = getattr(self.method, "describe_route", None) if route else None
+            self.cache[(i, j, rotation, route)] = (describe or self.method.describe)(view)
+        return self.cache[(i, j, rotation, route)]
 
     def extra(self, task: ImageTask, heading: float) -> dict[str, list[Any]]:
         """The keyword arguments of ``home`` beyond the two views (none for most methods)."""
@@ -163,10 +167,9 @@ class _GridViews:
 
     def route(self, task: ImageTask) -> list[Any]:
         """Features of the views between the goal and ``task`` (both excluded), goal first."""
-        step = float(getattr(self.method, "route_step", 0.0))
         goal = (self.job.goal.i, self.job.goal.j)
-        route = grid_route(self.grid, goal, (task.i, task.j), step)
-        return [self._describe(*node) for node in route]
+        route = method_route(self.method, self.grid, goal, (task.i, task.j))
+        return [self._describe(*node, route=True) for node in route]
 
     def neighbours(self, task: ImageTask, heading: float) -> list[tuple[np.ndarray, Any]]:
         """(offset, features) of the views ``neighbour_step`` grid units from ``task`` along

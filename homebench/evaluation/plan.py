@@ -35,7 +35,7 @@ import numpy as np
 from homebench.config import RunConfig, SweptWorld
 from homebench.errors import ConfigError
 from homebench.evaluation.code_version import code_version
-from homebench.evaluation.grid_routes import grid_route
+from homebench.evaluation.grid_routes import method_route
 from homebench.evaluation.image_hashes import image_hashes
 from homebench.evaluation.sources import Source, open_source
 from homebench.geometry import Grid
@@ -231,11 +231,10 @@ def extra_positions(
     method: Any, grid: Grid, goal: tuple[int, int], current: tuple[int, int]
 ) -> list[tuple[int, int]]:
     """Grid positions of the views a method reads for one pair beyond its two (from the
-    current database): the route from the goal (``uses_route``, its ``route_step``), then the
-    current view's neighbours (``uses_neighbours``, its ``neighbour_step``)."""
-    found = []
-    if getattr(method, "uses_route", False):
-        found += grid_route(grid, goal, current, float(getattr(method, "route_step", 0.0)))
+    current database): the route from the goal (``uses_route``, see
+    :func:`~homebench.evaluation.grid_routes.method_route`), then the current view's
+    neighbours (``uses_neighbours``, its ``neighbour_step``)."""
+    found = method_route(method, grid, goal, current)
     if getattr(method, "uses_neighbours", False):
         found += neighbour_positions(grid, *current, int(getattr(method, "neighbour_step", 1)))
     return found

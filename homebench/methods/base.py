@@ -10,11 +10,15 @@ whose fields are its parameters (with the papers' defaults), registered under a 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Protocol, runtime_checkable
+from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
 
 from homebench.views import ImageKind, View
 
-__all__ = ["HomingEstimate", "HomingMethod", "ImageKind", "View"]
+__all__ = ["HomingEstimate", "HomingMethod", "ImageKind", "RouteShape", "View"]
+
+#: How the engine lays routes out over a grid for methods that track along them
+#: (:mod:`homebench.evaluation.grid_routes`).
+RouteShape = Literal["tree", "line"]
 
 
 @dataclass(frozen=True)
@@ -43,9 +47,11 @@ class HomingMethod(Protocol):
     """The interface every registered method implements.
 
     A method that tracks features along the way from the goal (KLT-sector) sets the class
-    attribute ``uses_route = True`` and a ``route_step`` field (grid units); its ``home`` then
-    takes ``route=``, the features of the intermediate views from the goal towards the current
-    view, which the engine supplies.
+    attribute ``uses_route = True``, a ``route_step`` field (grid units) and optionally a
+    ``route_shape`` (:data:`RouteShape`, default ``line``);
+    its ``home`` then takes ``route=``, the features of the intermediate views from the goal
+    towards the current view, which the engine supplies, described by the method's
+    ``describe_route(view)`` where it has one (else ``describe``).
     """
 
     name: ClassVar[str]

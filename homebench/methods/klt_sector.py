@@ -18,14 +18,16 @@ tracker's unstated settings.
 
 The engine decides the route: ``uses_route`` tells it to pass the intermediate views, taken
 ``route_step`` grid units apart along the straight line from the goal to the current place
-(0: none, track directly from the goal to the current view).
+(0: none, track directly from the goal to the current view), or along the tree of such routes
+(``route_shape``, see :mod:`homebench.evaluation.grid_routes`); route views are described by
+:meth:`KltSector.describe_route`, without corners.
 """
 
 from __future__ import annotations
 
 import hashlib
 from collections.abc import Sequence
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from typing import ClassVar
 
 import numpy as np
@@ -33,7 +35,7 @@ from numpy.typing import NDArray
 
 from homebench.errors import ConfigError
 from homebench.geometry import PanoramaGeometry
-from homebench.methods.base import HomingEstimate, ImageKind, View
+from homebench.methods.base import HomingEstimate, ImageKind, RouteShape, View
 from homebench.methods.klt_tracking import KltTracker, Tracks
 from homebench.methods.params import check_choices, documented, param, same_as
 from homebench.methods.registry import register
@@ -85,6 +87,16 @@ class KltSector:
         "has views every grid unit, and 0.5 units (15 cm on Vardy's grid) shifts features by a "
         "few columns per step, which KLT follows with few losses (tracking directly over more "
         "than about 1 m gives wrong correspondences)",
+    )
+    route_shape: RouteShape = param(
+        "tree",
+        "Routes from the goal: the tree of routes (each view's route is the route to the last "
+        "view before it on the straight line, then that view) or the straight line itself.",
+        reading="the paper tracks along the path the robot drove from the goal; a grid "
+        "database has none: 'tree' follows the line to within about a grid unit and extends "
+        "a shorter route of the same goal, so the goal's corners are tracked once per grid "
+        "position (one step per view instead of a whole route per pair); 'line' snaps the "
+        "straight line itself",
     )
     max_corners: int = same_as(KltTracker, "max_corners")
     quality_level: float = same_as(KltTracker, "quality_level")
@@ -141,10 +153,15 @@ class KltSector:
 
     def describe(self, view: View) -> KltFeatures:
         """The panorama and its Shi-Tomasi corners."""
+        bare = self.describe_route(view)
+        return replace(bare, corners=self.tracker.detect(view.image))
+
+    def describe_route(self, view: View) -> KltFeatures:
+        """A view of a route: the panorama without corners (tracking reads only the goal's)."""
         if not isinstance(view.geometry, PanoramaGeometry):
             raise ConfigError("klt-sector needs unfolded panoramas, got a raw image")
         digest = hashlib.blake2b(view.image.tobytes(), digest_size=16).hexdigest()
-        return KltFeatures(view.image, view.geometry, self.tracker.detect(view.image), digest)
+        return KltFeatures(view.image, view.geometry, np.zeros((0, 2), np.float32), digest)
 
     def correspondences(
         self, current: KltFeatures, goal: KltFeatures, route: Sequence[KltFeatures] = ()
