@@ -22,9 +22,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
-from matplotlib.figure import Figure
 
 from homebench.config import RunConfig, config_kind, load_config
 from homebench.errors import ConfigError, DataError
@@ -32,6 +32,9 @@ from homebench.evaluation.executors import Execution
 from homebench.evaluation.results import RunTables, build_tables, write_tables
 from homebench.evaluation.runner import RunOutcome, run_plan
 from homebench.suggest import unknown
+
+if TYPE_CHECKING:  # matplotlib is imported by the functions that draw
+    from matplotlib.figure import Figure
 
 __all__ = ["GridRun", "Tables", "figure", "figure_names", "run", "run_grid", "tables"]
 

@@ -12,7 +12,6 @@ from functools import lru_cache
 
 import cv2
 import numpy as np
-from matplotlib import cbook
 from numpy.typing import NDArray
 
 Texture = NDArray[np.float32]
@@ -118,6 +117,8 @@ def blank(shape: tuple[int, int], value: float) -> Texture:
 
 @lru_cache(maxsize=8)
 def _sample_image(name: str) -> Texture:
+    from matplotlib import cbook  # here: a run's workers import this module, not matplotlib
+
     with cbook.get_sample_data(name) as f:
         buffer = np.frombuffer(f.read(), np.uint8)
     image = cv2.imdecode(buffer, cv2.IMREAD_UNCHANGED)
@@ -131,6 +132,8 @@ def _sample_image(name: str) -> Texture:
 
 @lru_cache(maxsize=4)
 def _sample_array(name: str, key: str) -> Texture:
+    from matplotlib import cbook
+
     data = cbook.get_sample_data(name)
     return normalise(np.asarray(data[key], np.float32), 0.0, 1.0)
 
