@@ -1,15 +1,19 @@
-"""Figure files written by forked children are the files the report process would write."""
+"""Figures drawn by forked children: the files the report process would write, and the
+captioned pages joined into the report's PDF."""
 
 from __future__ import annotations
 
+import io
+from datetime import UTC, datetime, timedelta, timezone
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+import pypdf
 import pytest
 from matplotlib.figure import Figure
 
-from homebench.report.figure_files import FigureFiles
+from homebench.report.figure_files import FigureFiles, assemble_pdf, pdf_date
 from homebench.report.style import report_style
 
 
@@ -43,3 +47,36 @@ def test_a_figure_whose_files_fail_fails_the_report(tmp_path: Path) -> None:
         files.save(_figure(), tmp_path / "taken" / "f0")
         files.save(_figure(), tmp_path / "f1")
     assert (tmp_path / "f1.svg").is_file()
+
+
+def test_captioned_pages_are_joined_in_order_with_the_reports_dates(tmp_path: Path) -> None:
+    """Pages drawn by children (a caption below each figure) join into one PDF: in the given
+    order, with the metadata given, and the same bytes every time."""
+    pages = [tmp_path / f"page{k}.pdf" for k in range(3)]
+    with report_style(), FigureFiles(2) as files:
+        for k, page in enumerate(pages):
+            files.save(_figure(), tmp_path / f"f{k}", (page, f"Figure {k + 1}. Caption {k}."))
+    started = datetime(2026, 11, 22, 8, 30, tzinfo=UTC)
+    joined = []
+    for order in (pages, pages):
+        out = io.BytesIO()
+        assemble_pdf(order, out, {"Title": "a report", "CreationDate": started})
+        joined.append(out.getvalue())
+    assert joined[0] == joined[1]
+    reader = pypdf.PdfReader(io.BytesIO(joined[0]))
+    assert [" ".join(p.extract_text().split())[-20:] for p in reader.pages] == [
+        f"Figure {k + 1}. Caption {k}." for k in range(3)
+    ]
+    assert reader.metadata.title == "a report"
+    assert reader.metadata.creation_date == started
+    single = pypdf.PdfReader(pages[0]).pages[0]
+    plain = pypdf.PdfReader(tmp_path / "f0.pdf").pages[0]
+    assert float(single.mediabox.height) > float(plain.mediabox.height)  # the caption's band
+
+
+def test_pdf_dates_carry_the_offset() -> None:
+    moment = datetime(2026, 1, 2, 3, 4, 5)
+    assert pdf_date(moment) == "D:20260102030405"
+    assert pdf_date(moment.replace(tzinfo=UTC)) == "D:20260102030405Z"
+    east = timezone(timedelta(hours=5, minutes=30))
+    assert pdf_date(moment.replace(tzinfo=east)) == "D:20260102030405+05'30'"

@@ -39,8 +39,9 @@ def _moved(box: Bbox, height: float, band: float) -> Bbox:
 def _freeze_and_grow(fig: Figure, band: float) -> None:
     """Lay ``fig`` out, stop its layout engine and grow it by ``band`` inches at the bottom,
     moving its axes, texts and legends up by as much (figures made of subfigures are not
-    handled)."""
-    fig.draw_without_rendering()
+    handled). A figure already laid out (no layout engine left) is not drawn again."""
+    if fig.get_layout_engine() is not None:
+        fig.draw_without_rendering()
     width, height = fig.get_size_inches()
     axes = [(ax, ax.get_position(original=True).frozen()) for ax in fig.axes]
     to_figure = fig.transFigure.inverted()

@@ -15,8 +15,10 @@ from __future__ import annotations
 
 import itertools
 import sys
-from collections.abc import Callable, Iterator, Sequence
+import tempfile
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
+from datetime import datetime
 from functools import partial
 from pathlib import Path
 
@@ -31,14 +33,13 @@ from homebench.errors import DataError
 from homebench.fileio import atomic_write, write_text_atomic
 from homebench.report import reuse
 from homebench.report.appendix import Appendix, run_appendix
-from homebench.report.captions import add_caption
 from homebench.report.figure_data import (
     condition_goals,
     goal_panels,
     image_describe_times,
     pick_goals,
 )
-from homebench.report.figure_files import FigureFiles
+from homebench.report.figure_files import FigureFiles, assemble_pdf
 from homebench.report.grid_figures import AE_MAX_DEG, ae_figure, field_figure, grid_pages
 from homebench.report.heatmaps import OVERVIEW_SECTION, heatmap_columns, heatmap_figures
 from homebench.report.markup import FigureEntry, html_report, markdown_report
@@ -66,7 +67,7 @@ from homebench.report.route_report import (
     route_views,
 )
 from homebench.report.run_data import RunData, RunInfo, grid_run, read_run_info
-from homebench.report.style import MethodStyle, method_styles, report_style
+from homebench.report.style import MethodStyle, figure_paths, method_styles, report_style
 from homebench.report.tables import TableView, report_views, run_order, write_views
 
 FORMATS = ("pdf", "html", "md")
@@ -304,7 +305,7 @@ def load_content(run_dir: Path, max_goals: int | None = None) -> ReportContent:
     return _grid_content(info, max_goals)
 
 
-def _pdf_metadata(run: RunInfo) -> dict[str, object]:
+def _pdf_metadata(run: RunInfo) -> dict[str, str | datetime]:
     return {
         "Title": f"homebench report: {run.name}",
         "Creator": f"homebench {__version__}",
@@ -319,32 +320,49 @@ def _progress_shown(progress: bool) -> bool:
 
 
 def _write_figures(
-    content: ReportContent, folder: Path, pdf: PdfPages | None, progress: bool
-) -> tuple[list[FigureEntry], list[Path]]:
-    """Write every figure under ``folder`` (PNG, PDF, SVG) and those the documents show as a
-    captioned page of ``pdf``: their numbered entries, and every file written."""
+    content: ReportContent,
+    folder: Path,
+    figure_files: FigureFiles,
+    pages: Path | None,
+    progress: bool,
+) -> tuple[list[FigureEntry], list[Path], list[Path]]:
+    """Draw every figure through ``figure_files``: its files under ``folder`` (PNG, PDF, SVG)
+    and, with ``pages`` (a folder), the figures the documents show as captioned one-page PDFs
+    in it. Their numbered entries, every figure file, and the page files in order."""
     folder.mkdir(parents=True, exist_ok=True)
-    entries, files = [], []
+    entries: list[FigureEntry] = []
+    files: list[Path] = []
+    page_files: list[Path] = []
     bar = tqdm(content.figures(), desc="report figures", unit="figure", file=sys.stderr,
                disable=not _progress_shown(progress))  # fmt: skip
-    with FigureFiles() as figure_files:  # each figure's files written in parallel
-        for stem, section, caption, fig in bar:
-            written = figure_files.save(fig, folder / stem)
-            files += written
-            if content.in_documents(section):
-                entry = FigureEntry(written[0], section, caption, len(entries) + 1)
-                entries.append(entry)
-                if pdf is not None:
-                    add_caption(fig, entry.numbered_caption)
-                    pdf.savefig(fig)
-            plt.close(fig)
-    return entries, files
-
-
-def _pdf_pages(pdf: PdfPages, pages: Sequence[Figure]) -> None:
-    for fig in pages:
-        pdf.savefig(fig)
+    for stem, section, caption, fig in bar:
+        page = None
+        if content.in_documents(section):
+            entry = FigureEntry(figure_paths(folder / stem)[0], section, caption,
+                                len(entries) + 1)  # fmt: skip
+            entries.append(entry)
+            if pages is not None:
+                page = (pages / f"figure-{entry.number:04d}.pdf", entry.numbered_caption)
+                page_files.append(page[0])
+        files += figure_files.save(fig, folder / stem, page)
         plt.close(fig)
+    return entries, files, page_files
+
+
+def _text_pages(path: Path, pages: Callable[[], Iterable[Figure]]) -> None:
+    """Write the figures of text ``pages()`` makes (title, tables, appendix) as one PDF."""
+    with PdfPages(path) as pdf:
+        for fig in pages():
+            pdf.savefig(fig)
+            plt.close(fig)
+
+
+def _front_pages(content: ReportContent) -> Iterator[Figure]:
+    """The title page, the warnings and the tables of the PDF."""
+    yield from title_pages(content.run, content.summary)
+    yield from warning_pages(content.warnings) if content.warnings else []
+    for view in content.views[: content.pdf_tables]:
+        yield from table_pages(view)
 
 
 def write_report(
@@ -397,11 +415,13 @@ def _build_report(
     with report_style():
         if "pdf" in formats:
             path = folder / "report.pdf"
-            with atomic_write(path) as f, PdfPages(f, metadata=_pdf_metadata(run)) as pdf:
-                figures, figure_files = _write_run_pdf(content, folder, pdf, progress)
+            figures, figure_files = _write_run_pdf(content, folder, path, progress)
             documents.append(path)
         else:
-            figures, figure_files = _write_figures(content, folder / "figures", None, progress)
+            with FigureFiles() as drawing:
+                figures, figure_files, _ = _write_figures(
+                    content, folder / "figures", drawing, None, progress
+                )
     for suffix, render in (("md", markdown_report), ("html", html_report)):
         if suffix in formats:
             path = folder / f"report.{suffix}"
@@ -413,13 +433,22 @@ def _build_report(
 
 
 def _write_run_pdf(
-    content: ReportContent, folder: Path, pdf: PdfPages, progress: bool
+    content: ReportContent, folder: Path, path: Path, progress: bool
 ) -> tuple[list[FigureEntry], list[Path]]:
-    """Title page, warnings, the tables, the figures in their sections' order, the appendix."""
-    _pdf_pages(pdf, title_pages(content.run, content.summary))
-    _pdf_pages(pdf, warning_pages(content.warnings) if content.warnings else [])
-    for view in content.views[: content.pdf_tables]:
-        _pdf_pages(pdf, table_pages(view))
-    written = _write_figures(content, folder / "figures", pdf, progress)
-    _pdf_pages(pdf, appendix_pages(content.appendix))
-    return written
+    """The PDF at ``path``: title page, warnings, the tables, the figures in their sections'
+    order, the appendix. Forked children (:class:`FigureFiles`) draw the pages while this
+    process builds the next figure; the pages are then joined into one document."""
+    with tempfile.TemporaryDirectory(prefix="homebench-pages-") as temporary:
+        pages = Path(temporary)
+        front, back = pages / "front.pdf", pages / "back.pdf"
+        with FigureFiles() as drawing:
+            front_pages = partial(_front_pages, content)
+            drawing.run("the title and table pages", partial(_text_pages, front, front_pages))
+            figures, files, page_files = _write_figures(
+                content, folder / "figures", drawing, pages, progress
+            )
+            back_pages = partial(appendix_pages, content.appendix)
+            drawing.run("the appendix pages", partial(_text_pages, back, back_pages))
+        with atomic_write(path) as f:
+            assemble_pdf([front, *page_files, back], f, _pdf_metadata(content.run))
+    return figures, files

@@ -1,11 +1,13 @@
-"""Figure files written by forked processes while the report goes on with the next figure.
+"""Figures drawn by forked processes while the report goes on with the next figure.
 
-Writing a figure as PNG, PDF and SVG draws it three times, most of a report's time. Where the
-system has ``fork``, :class:`FigureFiles` lays the figure out and forks: the child, a copy of the
-report process holding the laid-out figure, writes the three files and ends, while the report
-process captions the figure for the PDF and draws the next one; at most ``workers`` children at
-a time. The child draws the very figure the report process would have saved, so the files are
-the same bytes. Without ``fork`` (or with ``workers`` 0) the files are written in turn.
+Each figure is drawn five times or so: laid out, written as PNG, PDF and SVG, and as the PDF
+report's captioned page; most of a report's time. Where the system has ``fork``,
+:class:`FigureFiles` forks once the report process has built a figure: the child, a copy of the
+report process holding the figure, lays it out, writes its three files and (when asked) its
+captioned page as a one-page PDF, and ends, while the report process builds the next figure; at
+most ``workers`` children at a time. The child draws the very figure the report process would
+have drawn, so the files are the same bytes. Without ``fork`` (or with ``workers`` 0) the same
+work is done in turn. :func:`assemble_pdf` joins the pages into the report.
 """
 
 from __future__ import annotations
@@ -13,29 +15,47 @@ from __future__ import annotations
 import os
 import sys
 import traceback
+from collections.abc import Callable, Sequence
+from datetime import datetime
+from functools import partial
 from pathlib import Path
 from types import TracebackType
+from typing import IO
 
 from matplotlib.figure import Figure
 
-from homebench.report.style import figure_paths, freeze_layout, save_figure
+from homebench.report.captions import add_caption
+from homebench.report.style import SAVE_ARGS, figure_paths, save_figure
 
 
 def default_workers() -> int:
-    """Children writing figure files at once: one per core this process may use."""
+    """Children drawing figures at once: one per core this process may use."""
     if hasattr(os, "sched_getaffinity"):
         return len(os.sched_getaffinity(0))
     return os.cpu_count() or 1
 
 
+def draw_figure(fig: Figure, stem_path: Path, page: tuple[Path, str] | None = None) -> None:
+    """Write ``fig``'s files (:func:`~homebench.report.style.save_figure`), then, with
+    ``page = (path, caption)``, the figure with ``caption`` below it as a one-page PDF at
+    ``path`` (no dates: the report's metadata are set when the pages are joined)."""
+    save_figure(fig, stem_path)
+    if page is not None:
+        path, caption = page
+        add_caption(fig, caption)
+        with open(path, "wb") as f:
+            fig.savefig(f, format="pdf", **SAVE_ARGS["pdf"])
+
+
 class FigureFiles:
-    """Writes figures' files, in forked children where possible; a context manager whose exit
-    waits for every child and raises RuntimeError naming the figures whose files failed."""
+    """Draws figures (:func:`draw_figure`) and other drawings, in forked children where
+    possible; a context manager whose exit waits for every child and raises RuntimeError
+    naming the drawings that failed."""
 
     def __init__(self, workers: int | None = None):
         self.workers = default_workers() if workers is None else workers
         self.forks = self.workers > 0 and hasattr(os, "fork")
-        self.running: dict[int, Path] = {}
+        self.running: dict[int, str] = {}
         self.failed: list[str] = []
 
     def __enter__(self) -> FigureFiles:
@@ -52,34 +72,73 @@ class FigureFiles:
         if self.failed and kind is None:
             raise RuntimeError(f"figure files not written: {', '.join(self.failed)} (see above)")
 
-    def save(self, fig: Figure, stem_path: Path) -> list[Path]:
-        """Write ``fig`` as :func:`~homebench.report.style.save_figure` does (now, or in a child
-        that ends before the context does); the files' paths. ``fig`` is laid out now, so that
-        later changes to it (a caption) are not in the files."""
+    def save(
+        self, fig: Figure, stem_path: Path, page: tuple[Path, str] | None = None
+    ) -> list[Path]:
+        """Draw ``fig`` as :func:`draw_figure` does (now, or in a child that ends before the
+        context does); the paths of the figure's files."""
+        self.run(Path(stem_path).name, partial(draw_figure, fig, stem_path, page))
+        return figure_paths(stem_path)
+
+    def run(self, name: str, work: Callable[[], object]) -> None:
+        """Call ``work`` (a drawing named ``name`` in errors) now, or in a child."""
         if not self.forks:
-            return save_figure(fig, stem_path)
-        freeze_layout(fig)
+            work()
+            return
         while len(self.running) >= self.workers:
             self._reap()
         sys.stdout.flush()
         sys.stderr.flush()
         pid = os.fork()
-        if pid == 0:  # the child: write the files, then end without the parent's clean-up
+        if pid == 0:  # the child: draw, then end without the parent's clean-up
             code = 0
             try:
-                save_figure(fig, stem_path)
+                work()
             except BaseException:  # noqa: BLE001  (reported, and the parent fails the report)
                 traceback.print_exc()
                 code = 1
             finally:
                 sys.stderr.flush()
                 os._exit(code)
-        self.running[pid] = Path(stem_path)
-        return figure_paths(stem_path)
+        self.running[pid] = name
 
     def _reap(self) -> None:
         """Wait for a child to end; note its figure if it failed."""
         pid, status = os.wait()
-        stem = self.running.pop(pid, None)
-        if stem is not None and os.waitstatus_to_exitcode(status) != 0:
-            self.failed.append(stem.name)
+        name = self.running.pop(pid, None)
+        if name is not None and os.waitstatus_to_exitcode(status) != 0:
+            self.failed.append(name)
+
+
+def pdf_date(moment: datetime) -> str:
+    """A PDF date string (``D:YYYYMMDDHHmmSS`` and the UTC offset) of ``moment``."""
+    text = moment.strftime("D:%Y%m%d%H%M%S")
+    offset = moment.utcoffset()
+    if offset is None:
+        return text
+    minutes = int(offset.total_seconds()) // 60
+    if minutes == 0:
+        return text + "Z"
+    sign = "+" if minutes > 0 else "-"
+    return text + f"{sign}{abs(minutes) // 60:02d}'{abs(minutes) % 60:02d}'"
+
+
+def assemble_pdf(
+    parts: Sequence[Path | IO[bytes]], out: IO[bytes], metadata: dict[str, str | datetime]
+) -> None:
+    """Write the pages of the PDF documents ``parts`` (paths or binary streams), in order, as
+    one PDF to ``out`` with ``metadata`` (keys as in the document information dictionary
+    without the slash; dates as datetimes). The same parts give the same bytes."""
+    from pypdf import PdfReader, PdfWriter
+
+    writer = PdfWriter()
+    for part in parts:
+        for page in PdfReader(part).pages:
+            writer.add_page(page)
+    writer.add_metadata(
+        {
+            f"/{key}": pdf_date(value) if isinstance(value, datetime) else value
+            for key, value in metadata.items()
+        }
+    )
+    writer.write(out)
