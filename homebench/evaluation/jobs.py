@@ -256,34 +256,45 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
     goal_heading = goal_db.heading(job.goal.i, job.goal.j)
     parts = (method, goal, _GridViews(job, method), _Compass(job, goal_heading))
-    rows = []
-    for task in job.currents:
-        heading = current_db.heading(task.i, task.j) + task.rotation
-        current_xy = current_db.grid.position(task.i, task.j)
+    # the pairs' geometry at once: headings (n,), positions (n, 2), true directions (n,)
+    headings = [current_db.heading(task.i, task.j) + task.rotation for task in job.currents]
+    current_xy = current_db.grid.position(
+        [task.i for task in job.currents], [task.j for task in job.currents]
+    )
+    truths = home_direction(current_xy, goal_xy, np.asarray(headings, dtype=np.float64))
+    distances = np.hypot(*(goal_xy - current_xy).T)
+    rows, estimates_world = [], np.full(len(job.currents), np.nan)
+    for k, task in enumerate(job.currents):
         row = {
             "current_i": task.i,
             "current_j": task.j,
             "rotation": task.rotation,
-            "heading": heading,
-            "truth": float(home_direction(current_xy, goal_xy, heading)),
-            "distance_m": float(np.hypot(*(goal_xy - current_xy))),
+            "heading": headings[k],
+            "truth": float(truths[k]),
+            "distance_m": float(distances[k]),
         }
         try:
-            estimate, measured = _estimate(job, run_dir, task, heading, parts)
+            estimate, measured = _estimate(job, run_dir, task, headings[k], parts)
         except Exception as error:  # one failed pair; the job's other pairs go on
             row["error"] = describe_error(error)
         else:
-            angle = np.nan if estimate.angle is None else float(estimate.angle)
-            estimate_world = heading + angle
+            angle = None if estimate.angle is None else float(estimate.angle)
+            if angle is not None:
+                estimates_world[k] = headings[k] + angle
             row |= measured | {
-                "estimate": None if estimate.angle is None else angle,
-                "estimate_world": None if estimate.angle is None else float(estimate_world),
-                "ae": _none_if_nan(angular_errors(estimate_world, current_xy, goal_xy)),
+                "estimate": angle,
+                "estimate_world": None if angle is None else float(estimates_world[k]),
                 "rotation_estimate": estimate.rotation,
                 "n_landmarks": int(estimate.n_landmarks),
                 "score": estimate.score,
             }
-        rows.append({column: row.get(column) for column in ROW_COLUMNS})
+        rows.append(row)
+    errors = angular_errors(estimates_world, current_xy, goal_xy)
+    rows = [
+        {column: row.get(column) for column in ROW_COLUMNS}
+        | ({"ae": _none_if_nan(ae)} if "estimate" in row else {})
+        for row, ae in zip(rows, errors, strict=True)
+    ]
     record = {
         "format": RESULT_FORMAT,
         "key": job.key,
