@@ -30,7 +30,13 @@ from homebench.errors import DataError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
 from homebench.evaluation.grid_routes import method_route
 from homebench.evaluation.metrics import angular_errors
-from homebench.evaluation.plan import DescribeJob, HomeJob, ImageTask, neighbour_positions
+from homebench.evaluation.plan import (
+    DescribeJob,
+    HomeJob,
+    ImageTask,
+    described,
+    neighbour_positions,
+)
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import read_json_record, write_text_atomic
 from homebench.geometry import home_direction, world_to_robot_xy
@@ -139,22 +145,43 @@ class _GridViews:
     from the goal for methods that track (``uses_route``, see
     :func:`~homebench.evaluation.grid_routes.method_route`), the grid neighbours of the
     current view for methods that sample around it (``uses_neighbours``, their
-    ``neighbour_step``)."""
+    ``neighbour_step``). A view that is one of the job's described current views is read
+    from its feature file (with ``run_dir``) instead of being described again: a route view
+    then comes with its ``describe`` features, not its ``describe_route`` ones, so a method's
+    ``home`` must read of a route view only what both hold (klt-sector: the image and its
+    digest)."""
 
-    def __init__(self, job: HomeJob, method: Any):
-        self.job, self.method = job, method
+    def __init__(self, job: HomeJob, method: Any, run_dir: Path | None = None):
+        self.job, self.method, self.run_dir = job, method, run_dir
         self.source = job.currents[0].source
         self.grid = self.source.grid
         self.cache: dict[tuple[int, int, float, bool], Any] = {}
+        currents = set(job.currents)
+        self.stored = {(t.i, t.j, t.rotation): t for t in described(job) if t in currents}
 
     def _describe(self, i: int, j: int, rotation: float = 0.0, route: bool = False) -> Any:
-        """Features of a view (a route view's by the method's ``describe_route`` if it has
-        one: a tracker needs the image, not the view's own corners)."""
-        if (i, j, rotation, route) not in self.cache:
-            view = load_view(self.source, i, j, self.job.method.image_kind, rotation)
-            describe = getattr(self.method, "describe_route", None) if route else None
-            self.cache[(i, j, rotation, route)] = (describe or self.method.describe)(view)
-        return self.cache[(i, j, rotation, route)]
+        """Features of a view: stored, or described (a route view's by the method's
+        ``describe_route`` if it has one: a tracker needs the image, not the view's own
+        corners)."""
+        key = (i, j, rotation, route)
+        if key not in self.cache:
+            features = self._stored(i, j, rotation)
+            if features is None:
+                view = load_view(self.source, i, j, self.job.method.image_kind, rotation)
+                describe = getattr(self.method, "describe_route", None) if route else None
+                features = (describe or self.method.describe)(view)
+            self.cache[key] = features
+        return self.cache[key]
+
+    def _stored(self, i: int, j: int, rotation: float) -> Any:
+        """The stored features of the view, if it is a described current view; else None."""
+        task = self.stored.get((i, j, rotation))
+        if task is None or self.run_dir is None:
+            return None
+        try:
+            return _features(task, self.run_dir, self.job).features
+        except DataError:  # a missing or unusable file: described here instead
+            return None
 
     def extra(self, task: ImageTask, heading: float) -> dict[str, list[Any]]:
         """The keyword arguments of ``home`` beyond the two views (none for most methods)."""
@@ -255,7 +282,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
     goal_heading = goal_db.heading(job.goal.i, job.goal.j)
-    parts = (method, goal, _GridViews(job, method), _Compass(job, goal_heading))
+    parts = (method, goal, _GridViews(job, method, run_dir), _Compass(job, goal_heading))
     # the pairs' geometry at once: headings (n,), positions (n, 2), true directions (n,)
     headings = [current_db.heading(task.i, task.j) + task.rotation for task in job.currents]
     current_xy = current_db.grid.position(
