@@ -11,6 +11,7 @@ the --jobs 1 reference measured in the same process.
 from __future__ import annotations
 
 import argparse
+import os
 import tempfile
 import time
 from pathlib import Path
@@ -67,10 +68,14 @@ def main() -> None:
     if args.full:
         total = 0.0
         for method in METHODS:
+            load = os.getloadavg()[0]
             seconds, _, pairs = _timed_run(method, "all", 2)
             total += seconds
-            print(f"all pairs, {method:<12}: {pairs} pairs in {seconds:.0f} s (--jobs 2)")
-        print(f"all three methods, full grid of one condition: {total:.0f} s (target < 600 s)")
+            print(
+                f"all pairs, {method:<12}: {pairs} pairs in {seconds:.0f} s (--jobs 2), "
+                f"load before/after {load:.2f}/{os.getloadavg()[0]:.2f}"
+            )
+        print(f"all three methods, full grid of one condition: {total:.0f} s (target < 180 s)")
 
 
 if __name__ == "__main__":
