@@ -42,7 +42,7 @@ def test_forked_files_are_the_files_written_in_turn(tmp_path: Path, workers: int
 
 def test_a_figure_whose_files_fail_fails_the_report(tmp_path: Path) -> None:
     (tmp_path / "taken").write_text("a file where the figures' folder should be")
-    failing = pytest.raises(RuntimeError, match="figure files not written: f0")
+    failing = pytest.raises(RuntimeError, match="report drawings failed: f0")
     with failing, FigureFiles(2) as files:
         files.save(_figure(), tmp_path / "taken" / "f0")
         files.save(_figure(), tmp_path / "f1")

@@ -70,7 +70,7 @@ class FigureFiles:
         while self.running:
             self._reap()
         if self.failed and kind is None:
-            raise RuntimeError(f"figure files not written: {', '.join(self.failed)} (see above)")
+            raise RuntimeError(f"report drawings failed: {', '.join(self.failed)} (see above)")
 
     def save(
         self, fig: Figure, stem_path: Path, page: tuple[Path, str] | None = None
