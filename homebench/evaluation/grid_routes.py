@@ -76,9 +76,10 @@ def _line_route(
 def _tree_route(
     grid: Grid, start: tuple[int, int], end: tuple[int, int], step: float
 ) -> tuple[tuple[int, int], ...]:
-    """The ``tree`` route (cached: a start's routes share their prefixes). The last position
-    before ``end`` on the line is closer to ``start`` than ``end`` is (it is ``end`` moved
-    towards ``start`` by at most a column and a row), so the recursion ends."""
+    """The ``tree`` route (cached: a start's routes share their prefixes). With ``step`` <= 1
+    the last position before ``end`` on the line is ``end`` moved towards ``start`` by at most
+    a column and a row (checked on every pair of a 12 x 17 grid), so closer to ``start`` and
+    the recursion ends; the guard keeps it ending for any step."""
     line = _line_route(grid, start, end, step)
     if not line:
         return ()
