@@ -72,3 +72,11 @@ def test_straight_routes_of_one_goal_do_not_form_a_tree() -> None:
 def test_unknown_route_shape_is_refused() -> None:
     with pytest.raises(ValueError, match="route shape"):
         grid_route(GRID, (0, 0), (3, 3), 0.5, "zigzag")  # type: ignore[arg-type]
+
+
+def test_tree_routes_of_a_wide_grid_need_no_recursion() -> None:
+    """A route as long as a 3000-column grid is wide (deeper than Python's recursion limit)."""
+    wide = Grid((2, 3000), 0.3)
+    route = grid_route(wide, (0, 0), (1, 2999), 0.5, "tree")
+    assert route[0] in {(0, 1), (1, 1)} and route[-1] in {(0, 2998), (1, 2998)}
+    assert len(route) == 2998

@@ -72,21 +72,33 @@ def _line_route(
     return [node for node in nodes if grid.contains(*node)]
 
 
-@lru_cache(maxsize=65536)
 def _tree_route(
     grid: Grid, start: tuple[int, int], end: tuple[int, int], step: float
 ) -> tuple[tuple[int, int], ...]:
-    """The ``tree`` route (cached: a start's routes share their prefixes). With ``step`` <= 1
-    the last position before ``end`` on the line is ``end`` moved towards ``start`` by at most
-    a column and a row (checked on every pair of a 12 x 17 grid), so closer to ``start`` and
-    the recursion ends; the guard keeps it ending for any step."""
-    line = _line_route(grid, start, end, step)
-    if not line:
-        return ()
-    parent = line[-1]
-    if _squared(parent, start) >= _squared(end, start):  # not reached (see above); a guard
-        return tuple(line)
-    return (*_tree_route(grid, start, parent, step), parent)
+    """The ``tree`` route: the chain of last-positions-before from ``end`` back to ``start``,
+    walked without recursion (a route may be as long as the grid is wide)."""
+    parents: list[tuple[int, int]] = []
+    node, prefix = end, ()
+    while (parent := _parent(grid, start, node, step)) is not None:
+        if _squared(parent, start) >= _squared(node, start):  # the guard: a straight route
+            prefix = tuple(_line_route(grid, start, node, step))
+            break
+        parents.append(parent)
+        node = parent
+    return (*prefix, *reversed(parents))
+
+
+@lru_cache(maxsize=1 << 16)
+def _parent(
+    grid: Grid, start: tuple[int, int], node: tuple[int, int], step: float
+) -> tuple[int, int] | None:
+    """The last position before ``node`` on the line from ``start`` (None: none between).
+    With ``step`` <= 1 it is ``node`` moved towards ``start`` by at most a column and a row
+    (checked on every pair of a 12 x 17 grid), so closer to ``start`` and the walk ends; the
+    guard in :func:`_tree_route` ends it for any step. Cached: a start's routes share their
+    prefixes."""
+    line = _line_route(grid, start, node, step)
+    return line[-1] if line else None
 
 
 def _squared(a: tuple[int, int], b: tuple[int, int]) -> int:
