@@ -25,6 +25,7 @@ from homebench.methods.min_warping import (
     column_distances,
     magnification_matrix,
     quantize,
+    rotation_costs,
     search_template,
 )
 
@@ -150,6 +151,16 @@ def test_compiled_path_gives_the_numpy_reference_estimate(dx, dy, heading, dista
     assert method.search(fast, "numba")[:3] == method.search(fast, "numpy")[:3]
     a, b = method.home(current, goal), method.home(current, goal, engine="numpy")
     assert (a.angle, a.rotation, a.diagnostics) == (b.angle, b.rotation, b.diagnostics)
+
+
+def test_rotation_costs_are_the_wrapped_diagonal_sums():
+    """Each psi's cost is the sum over goal columns i of plane[i, (i - psi) % n], for coarse
+    steps and fine offsets (any psi in band columns, negative and past n too)."""
+    plane = np.random.default_rng(3).integers(0, 65536, (12, 12)).astype(np.uint16)
+    psis = np.array([0, 3, 6, 9, 1, 2, 11, -1, 13])
+    i = np.arange(12)
+    expected = [int(plane[i, (i - psi) % 12].astype(np.int64).sum()) for psi in psis]
+    np.testing.assert_array_equal(rotation_costs(plane, psis), expected)
 
 
 def test_quantize_scales_the_largest_distance_to_65535():

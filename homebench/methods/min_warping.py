@@ -66,6 +66,7 @@ from functools import lru_cache
 from typing import ClassVar, Literal
 
 import numpy as np
+from numpy.lib.stride_tricks import as_strided
 from numpy.typing import NDArray
 
 from homebench.errors import ConfigError
@@ -232,6 +233,21 @@ def reference_costs(
         values = stack[template.plane[:, None], (rows[:, None] + alpha) % n, current]
         cost[row] = np.minimum.reduceat(values, firsts, axis=0).sum(axis=0, dtype=kind)
     return cost
+
+
+def rotation_costs(plane: U16Array, psis: IntArray) -> I64Array:
+    """Cost (m,) of the pure rotations by ``psis`` (m,) in band columns on the unit plane
+    (n, n) [goal col, current col]: ``sum over i of plane[i, (i - psi) % n]``, int64.
+
+    Every rotation's cost is a wrapped diagonal sum: with the plane twice side by side, row i
+    from column i on holds ``plane[i, (i + k) % n]`` at k, so a strided view (row step: one row
+    and one column) lines the diagonals up as columns, summed in one pass.
+    """
+    n = plane.shape[0]
+    twice = np.concatenate([plane, plane], axis=1)
+    rows, columns = twice.strides
+    diagonals = as_strided(twice, shape=(n, n), strides=(rows + columns, columns), writeable=False)
+    return diagonals.sum(axis=0, dtype=np.int64)[(-np.asarray(psis)) % n]
 
 
 def swapped(stack: NDArray[np.generic]) -> NDArray[np.generic]:
@@ -420,7 +436,7 @@ class MinWarping:
         sizes = [np.sum(v * v if squared else np.abs(v), axis=1) for v in (goal, current)]
         normalized = self.distance.lstrip("z").startswith("n")
         planes = kernels.distance_planes(goal, current, *sizes, squared, normalized)
-        return kernels.quantize(planes)
+        return kernels.quantize(planes, float(planes.max()))
 
     def searcher(self, stack: U16Array, engine: Engine) -> _NumpySearch | _CompiledSearch:
         """Cost evaluation on ``stack`` by the compiled kernels or the numpy reference."""
@@ -471,9 +487,8 @@ class MinWarping:
         n = self.band_columns
         stack = self.quantized_stack(current, goal, engine)
         best, a, p, psis = self.search(stack, engine)
-        i, unit = np.arange(n), (self.n_scales - 1) // 2
-        # pure rotations by the searched psis (m,): y = x on the unit plane, both views alike
-        rotation = stack[unit, i[None, :], (i[None, :] - psis[:, None]) % n].sum(axis=1)
+        # pure rotations by the searched psis: y = x on the unit plane, both views alike
+        rotation = rotation_costs(stack[(self.n_scales - 1) // 2], psis)
         rotation *= 1 + self.double_search
         psi_only = int(psis[np.argmin(rotation)])
         if best >= rotation.min():

@@ -66,9 +66,10 @@ def distance_planes(
 
 
 @njit(cache=True, nogil=True)
-def quantize(stack: NDArray[np.float32]) -> NDArray[np.uint16]:
-    """``stack`` scaled so its largest entry is STACK_MAX, rounded to uint16 (same shape)."""
-    top = np.float64(stack.max())
+def quantize(stack: NDArray[np.float32], top: float) -> NDArray[np.uint16]:
+    """``stack`` scaled so that ``top``, its largest entry, becomes STACK_MAX, rounded to uint16
+    (same shape). The caller finds ``top`` (numpy's max is vectorised; a compiled float max
+    is not, without fastmath)."""
     scale = STACK_MAX / top if top > 0 else 0.0
     out = np.empty(stack.shape, dtype=np.uint16)
     flat, flat_out = stack.ravel(), out.ravel()
@@ -81,12 +82,11 @@ def quantize(stack: NDArray[np.float32]) -> NDArray[np.uint16]:
 def search_table(
     stack: NDArray[np.uint16], step: int, swap: bool, levels: int
 ) -> NDArray[np.uint16]:
-    """The stack laid out for :func:`coarse_costs`: (levels, step * n_scales * n, 2 * n // step).
+    """The stack laid out for :func:`coarse_costs`: (levels, step * n_scales * n, n // step).
 
-    Level 0, row ``(g % step * n_scales + k) * n + position(j)``, entries ``g // step`` and ``g
-    // step + n // step`` hold ``D[k, g, j]`` (goal column g, current column j): the goal
-    columns of consecutive alpha steps lie side by side, twice round so a run of n // step of
-    them needs no wrap, and the current columns of consecutive steps are consecutive rows
+    Level 0, row ``(g % step * n_scales + k) * n + position(j)``, entry ``g // step`` holds
+    ``D[k, g, j]`` (goal column g, current column j): the goal columns of consecutive alpha
+    steps lie side by side, and the current columns of consecutive steps are consecutive rows
     (:func:`_position`). Level v holds the minimum over the current columns ``j .. j + 2**v -
     1`` (circular), so the minimum over any run of L consecutive columns is that of two
     level-floor(log2 L) rows. ``swap``: the stack of the swapped views, ``D'[k, i, j] =
@@ -97,7 +97,7 @@ def search_table(
     position = np.empty(n, dtype=np.intp)
     for j in range(n):
         position[j] = _position(j, step, blocks)
-    out = np.empty((levels, step * n_planes * n, 2 * blocks), dtype=np.uint16)
+    out = np.empty((levels, step * n_planes * n, blocks), dtype=np.uint16)
     for k in range(n_planes):
         if swap:
             _fill(out[0], stack[n_planes - 1 - k].T, k, n_planes, step, position)
@@ -108,7 +108,7 @@ def search_table(
         for first in range(0, out.shape[1], n):
             for j in range(n):
                 row, other = first + position[j], first + position[(j + half) % n]
-                for a in range(2 * blocks):  # a ternary, not min(): LLVM vectorises this one
+                for a in range(blocks):  # a ternary, not min(): LLVM vectorises this one
                     low, high = below[row, a], below[other, a]
                     level[row, a] = low if low < high else high
     return out
@@ -131,9 +131,7 @@ def _fill(
         for j in range(n):
             row = out[first + position[j]]
             for b in range(blocks):
-                value = plane[res + step * b, j]
-                row[b] = value
-                row[b + blocks] = value
+                row[b] = plane[res + step * b, j]
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -158,34 +156,60 @@ def coarse_costs(
     ``table``: :func:`search_table`; goal offset x's admissible pairs are the runs q in
     ``run_start[x] .. run_start[x + 1] - 1`` of current offsets ``y[q] ..`` on plane
     ``plane[q]``, whose minimum is that of the level ``level[q]`` rows at ``y[q]`` and ``y[q] +
-    shift[q]``. Goal column first: the running minima of x (n_steps x n_steps 16-bit entries)
-    stay in the first-level cache while each run streams its consecutive table rows by.
+    shift[q]``. Goal column first: the running minima of x (n_steps x n_steps 16-bit entries,
+    [s, goal block]) stay in the first-level cache while each run folds in the table rows of
+    consecutive s, which are consecutive rows: a few long contiguous passes per run. The minima
+    are added to the costs once per x, at alpha = goal block - x // step (a doubled cost row
+    takes the wrap).
     """
-    blocks = table.shape[2] // 2
+    blocks = table.shape[2]
     n = blocks * step
     n_planes = table.shape[1] // n // step
-    cost = np.zeros((blocks, blocks), dtype=np.int32)
-    best = np.empty((blocks, blocks), dtype=np.uint16)  # [s, alpha]
+    cost = np.zeros((blocks, 2 * blocks), dtype=np.int32)  # [s, alpha + blocks or alpha]
+    best = np.empty((blocks, blocks), dtype=np.uint16)  # [s, goal block]
+    flat_best = best.reshape(-1)
     for x in range(n):
         first, last = run_start[x], run_start[x + 1]
         if first == last:
             continue
         res, base = x % step, x // step
-        best[:] = 65535
+        flat_best[:] = 65535
         for q in range(first, last):
-            rows, rank = table[level[q]], (res * n_planes + plane[q]) * n
+            rows, rank = table[level[q]].reshape(-1), (res * n_planes + plane[q]) * n
             y2 = (y[q] + shift[q]) % n
-            near, far = rank + (y[q] % step) * blocks, rank + (y2 % step) * blocks
-            for s in range(blocks):
-                row = near + _wrap(y[q] // step + s, blocks)
-                _fold_min(best[s], rows[row, base : base + blocks])
-                if shift[q]:
-                    row = far + _wrap(y2 // step + s, blocks)
-                    _fold_min(best[s], rows[row, base : base + blocks])
-        for s in range(blocks):
-            for a in range(blocks):
-                cost[s, a] += best[s, a]
-    return cost.astype(np.int64)
+            # each window: its block's first table row, and its row at s = 0 within the block
+            near, near_start = rank + (y[q] % step) * blocks, y[q] // step
+            far, far_start = rank + (y2 % step) * blocks, y2 // step
+            two = shift[q] != 0
+            # the s at which a window's rows wrap round to the first row of its block
+            wrap_near, wrap_far = blocks - near_start, blocks - far_start if two else blocks
+            low, high = min(wrap_near, wrap_far), max(wrap_near, wrap_far)
+            for s0, s1 in ((0, low), (low, high), (high, blocks)):
+                if s0 < s1:
+                    one = (near + _wrap(near_start + s0, blocks)) * blocks
+                    other = (far + _wrap(far_start + s0, blocks)) * blocks
+                    _fold_rows(flat_best, rows, s0 * blocks, one, other if two else -1,
+                               (s1 - s0) * blocks)  # fmt: skip
+        for s in range(blocks):  # goal block b is alpha (b - base) % blocks
+            _add(cost[s, blocks - base : 2 * blocks - base], best[s])
+    out = np.empty((blocks, blocks), dtype=np.int64)
+    for s in range(blocks):
+        for a in range(blocks):
+            out[s, a] = cost[s, a] + cost[s, a + blocks]
+    return out
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _fold_rows(
+    flat_best: NDArray[np.uint16], rows: NDArray[np.uint16], out: int, one: int, other: int,
+    size: int,
+) -> None:  # fmt: skip
+    """Fold the ``size`` table entries from flat offset ``one`` of ``rows`` (their minimum with
+    those from ``other``, unless it is -1) into the minima ``flat_best`` from offset ``out``."""
+    if other < 0:
+        _fold_min(flat_best[out : out + size], rows[one : one + size])
+    else:
+        _fold_min2(flat_best[out : out + size], rows[one : one + size], rows[other : other + size])
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -194,6 +218,22 @@ def _fold_min(best: NDArray[np.uint16], row: NDArray[np.uint16]) -> None:
     for a in range(best.size):
         value, low = row[a], best[a]
         best[a] = value if value < low else low
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _fold_min2(best: NDArray[np.uint16], one: NDArray[np.uint16], two: NDArray[np.uint16]) -> None:
+    """``best = minimum(best, one, two)`` in place, in one pass over ``best``."""
+    for a in range(best.size):
+        first, second, low = one[a], two[a], best[a]
+        value = first if first < second else second
+        best[a] = value if value < low else low
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _add(total: NDArray[np.int32], part: NDArray[np.uint16]) -> None:
+    """``total += part`` in place."""
+    for a in range(part.size):
+        total[a] += part[a]
 
 
 @njit(cache=True, nogil=True)
@@ -210,7 +250,7 @@ def table_costs(
 ) -> NDArray[np.int64]:
     """Min-warping costs (m,) of the (alpha, psi) pairs ``alphas``, ``psis`` (m,) in band
     columns, read from :func:`search_table` (the other arguments as :func:`coarse_costs`)."""
-    blocks = table.shape[2] // 2
+    blocks = table.shape[2]
     n = blocks * step
     n_planes = table.shape[1] // n // step
     position, rank, block = np.empty(n, np.intp), np.empty(n, np.intp), np.empty(n, np.intp)
