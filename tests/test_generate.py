@@ -17,7 +17,14 @@ import pytest
 
 from homebench.data import generate as generate_module
 from homebench.data.catalog import ensure_generated, generate_variant, resolve
-from homebench.data.generate import generate, generated_root, is_generated, manifest_for_spec
+from homebench.data.generate import (
+    Generation,
+    generate,
+    generate_many,
+    generated_root,
+    is_generated,
+    manifest_for_spec,
+)
 from homebench.data.manifest import load_manifest
 from homebench.data.synth.spec import GridSpec, RawImageSpec, UnfoldedImageSpec, WorldSpec
 from homebench.errors import ConfigError, DataError
@@ -139,6 +146,46 @@ def test_nothing_half_written_when_generation_fails(tmp_path: Path, jobs: int) -
     with pytest.raises(RuntimeError, match="renderer crashed"):
         generate(small_spec(), tmp_path / "db", jobs, "tiny", renderer=FailingRenderer((1, 2)))
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_worlds_generated_together_are_the_worlds_generated_alone(
+    tmp_path: Path, jobs: int
+) -> None:
+    """One pass over several worlds (ground truth computed in the pool's workers) writes the
+    same bytes as one generation per world; a world already generated is left as it is."""
+    specs = [small_spec(seed=5), small_spec(seed=5, variant="day"), small_spec(seed=6)]
+    alone = [generate(s, tmp_path / f"alone-{k}", 1, "tiny", renderer=FakeRenderer())
+             for k, s in enumerate(specs)]  # fmt: skip
+    done = generate(specs[0], tmp_path / "together-0", 1, "tiny", renderer=FakeRenderer())
+    kept = _tree(done)
+    together = [Generation(s, tmp_path / f"together-{k}", "tiny") for k, s in enumerate(specs)]
+    calls: list[tuple[int, int]] = []
+    folders = generate_many(together, jobs, renderer=FakeRenderer(),
+                            progress=lambda d, n: calls.append((d, n)))  # fmt: skip
+    assert folders == [g.folder for g in together]
+    assert [_tree(f) for f in folders] == [_tree(f) for f in alone]
+    assert _tree(done) == kept
+    assert calls[-1] == (24, 24)  # the two worlds still to generate, 12 positions each
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_one_world_failing_leaves_none_of_the_worlds_half_written(
+    tmp_path: Path, jobs: int
+) -> None:
+    together = [Generation(small_spec(seed=k), tmp_path / f"db-{k}", "tiny") for k in range(3)]
+    with pytest.raises(RuntimeError, match="renderer crashed"):
+        generate_many(together, jobs, renderer=FailingRenderer((2, 3)))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_two_worlds_cannot_share_a_folder(tmp_path: Path) -> None:
+    together = [Generation(small_spec(seed=k), tmp_path / "db", "tiny") for k in range(2)]
+    with pytest.raises(DataError, match="two different worlds"):
+        generate_many(together, 1, renderer=FakeRenderer())
+    assert list(tmp_path.iterdir()) == []
+    same = [Generation(small_spec(), tmp_path / "db", "tiny")] * 2
+    assert generate_many(same, 1, renderer=FakeRenderer()) == [tmp_path / "db"] * 2
 
 
 def test_a_renderer_returning_the_wrong_size_is_a_data_error(tmp_path: Path) -> None:

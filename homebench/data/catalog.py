@@ -104,7 +104,7 @@ def resolve(name_or_path: str | Path, path: Path | None = None) -> GridDatabase:
     """The database named by ``name_or_path``, with images in ``path`` or its usual place."""
     manifest, own_folder = find_manifest(name_or_path)
     if manifest.generator is not None:
-        root = _generated_location(manifest, own_folder, path)
+        root = generated_location(manifest, own_folder, path)
         if not is_generated(root, manifest.generator.spec):
             raise DataError(
                 f"database {manifest.name!r} is not generated in {root}; "
@@ -126,7 +126,7 @@ def ensure_generated(
     """Generate a generated set unless its folder is already complete; return the database."""
     manifest, own_folder = find_manifest(name_or_path)
     spec = _generator_spec(manifest)
-    root = _generated_location(manifest, own_folder, out_dir)
+    root = generated_location(manifest, own_folder, out_dir)
     return _generate_into(spec, manifest.name, manifest.description, root, jobs, progress)
 
 
@@ -171,7 +171,7 @@ def _generate_into(
     return GridDatabase(load_manifest(root / MANIFEST_NAME), root)
 
 
-def _generated_location(manifest: Manifest, own_folder: Path | None, path: Path | None) -> Path:
+def generated_location(manifest: Manifest, own_folder: Path | None, path: Path | None) -> Path:
     """``path``, else the folder the manifest came from if it is the generation, else the cache."""
     spec = manifest.generator.spec
     if path is not None:
@@ -216,7 +216,7 @@ def list_databases() -> list[DatabaseRow]:
         m = entry.manifest
         try:
             if m.generator is not None:
-                root = _generated_location(m, None, None)
+                root = generated_location(m, None, None)
             else:
                 root = _real_location(m, None, None)
         except DataError:

@@ -8,6 +8,7 @@ number of jobs.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -17,6 +18,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -166,6 +168,24 @@ def is_generated(folder: Path, spec: WorldSpec) -> bool:
     return manifest.generator is not None and manifest.generator.key == spec.key()
 
 
+@dataclass(frozen=True)
+class Generation:
+    """A world to generate: its ``spec``, its folder ``out_dir`` (None: :func:`generated_root`
+    of ``name``), its set's ``name`` and ``description``."""
+
+    spec: WorldSpec
+    out_dir: Path | None = None
+    name: str = "synth"
+    description: str = ""
+
+    @property
+    def folder(self) -> Path:
+        """Where the generation goes."""
+        if self.out_dir is not None:
+            return Path(self.out_dir)
+        return generated_root(self.name, self.spec)
+
+
 def generate(
     spec: WorldSpec,
     out_dir: Path | None = None,
@@ -183,71 +203,150 @@ def generate(
     (never overwritten). ``jobs`` follows joblib (-1 = all cores); ``progress(done, total)``
     is called as positions finish, and a bar shows them (see :func:`progress_bars`).
     """
-    final = Path(out_dir) if out_dir is not None else generated_root(name, spec)
-    if is_generated(final, spec):
-        return final
-    if final.exists() and (not final.is_dir() or any(final.iterdir())):
-        raise DataError(
-            f"{final}: exists but is not a finished generation of spec {spec.key()}; "
-            "remove it or choose another folder"
-        )
-    renderer = renderer or SynthRenderer()
+    generation = Generation(spec, out_dir, name, description)
+    (folder,) = generate_many([generation], jobs, renderer=renderer, progress=progress)
+    return folder
+
+
+def generate_many(
+    generations: Sequence[Generation],
+    jobs: int = 1,
+    *,
+    renderer: Renderer | None = None,
+    progress: Progress | None = None,
+) -> list[Path]:
+    """Generate each of ``generations`` as :func:`generate` does; their folders, in order.
+
+    The positions of every world that is not generated yet are rendered by one pool of ``jobs``
+    workers, so that no world waits for the last positions of the one before it; each world's
+    ground truth is a task of the pool too. ``progress(done, total)`` counts all positions.
+    """
+    pending = _pending(generations)
+    if pending:
+        try:
+            _generate_pending(pending, jobs, renderer or SynthRenderer(), progress)
+        except DataError:
+            if not all(is_generated(g.folder, g.spec) for g in pending):
+                raise  # else another process finished the same worlds first
+    return [generation.folder for generation in generations]
+
+
+def _pending(generations: Sequence[Generation]) -> list[Generation]:
+    """The generations whose folders do not hold them yet, once each; DataError for a folder
+    that holds something else, or that two different specs would share."""
+    pending: dict[Path, Generation] = {}
+    for generation in generations:
+        folder, spec = generation.folder, generation.spec
+        if folder in pending and pending[folder].spec != spec:
+            raise DataError(f"{folder}: two different worlds ({pending[folder].spec.key()} and "
+                            f"{spec.key()}) would be generated into the same folder")  # fmt: skip
+        if folder in pending or is_generated(folder, spec):
+            continue
+        if folder.exists() and (not folder.is_dir() or any(folder.iterdir())):
+            raise DataError(
+                f"{folder}: exists but is not a finished generation of spec {spec.key()}; "
+                "remove it or choose another folder"
+            )
+        pending[folder] = generation
+    return list(pending.values())
+
+
+def _generate_pending(
+    pending: list[Generation], jobs: int, renderer: Renderer, progress: Progress | None
+) -> None:
+    """Build every generation of ``pending`` in a temporary folder
+    (:func:`~homebench.fileio.atomic_directory`), then move each into place; a failure leaves
+    none of the unfinished ones behind."""
+    stacks = [contextlib.ExitStack() for _ in pending]
     try:
-        with atomic_directory(final) as tmp:
-            _build(spec, tmp, jobs, name, description, renderer, progress)
-    except DataError:
-        if is_generated(final, spec):  # another process finished the same spec first
-            return final
+        folders = [
+            stack.enter_context(atomic_directory(generation.folder))
+            for stack, generation in zip(stacks, pending, strict=True)
+        ]
+        _build(list(zip(pending, folders, strict=True)), jobs, renderer, progress)
+    except BaseException as error:
+        for stack in stacks:  # each removes its temporary folder
+            stack.__exit__(type(error), error, error.__traceback__)
         raise
-    return final
+    for stack in stacks:  # each moves its folder into place
+        stack.close()
 
 
 def _build(
-    spec: WorldSpec,
-    folder: Path,
+    staged: list[tuple[Generation, Path]],
     jobs: int,
-    name: str,
-    description: str,
     renderer: Renderer,
     progress: Progress | None,
 ) -> None:
-    """Fill ``folder`` with images, ground truth and, last, the manifest."""
-    for kind in ("raw", "unfolded"):
-        (folder / kind).mkdir()
-    positions = list(spec.to_grid().indices())
+    """Fill each staged folder with images, ground truth and, last, the manifest: one task per
+    batch of positions, then each world's ground truth, in one parallel pass."""
     n_jobs = effective_n_jobs(jobs)
-    # in this process, one position per batch costs nothing and moves the bar position by position
-    batches = _split(positions, n_jobs * BATCHES_PER_JOB if n_jobs > 1 else len(positions))
-    files: dict[str, dict[str, str | None]] = {"raw": {}, "unfolded": {}}
-    prints: dict[str, dict[str, str]] = {"raw": {}, "unfolded": {}}
-    done = 0
+    tasks: list[tuple[int, list[tuple[int, int]]]] = []  # (staged index, positions; [] = truth)
+    for index, (generation, folder) in enumerate(staged):
+        for kind in ("raw", "unfolded"):
+            (folder / kind).mkdir()
+        positions = list(generation.spec.to_grid().indices())
+        # in this process, one position per batch costs nothing and moves the bar by positions
+        batches = _split(positions, n_jobs * BATCHES_PER_JOB if n_jobs > 1 else len(positions))
+        tasks += [(index, batch) for batch in batches] + [(index, [])]
+    written: list[list[tuple[str, str, str, str]]] = [[] for _ in staged]
+    truths: list[dict[str, Any]] = [{} for _ in staged]
+    total, done = sum(len(batch) for _, batch in tasks), 0
+    names = ", ".join(generation.name for generation, _ in staged)
     bar = tqdm(
-        total=len(positions),
-        desc=f"generate {name}",
+        total=total,
+        desc=f"generate {names}",
         unit="position",
         file=sys.stderr,
-        disable=None if _BARS.get() else True,  # None: off unless stderr is a terminal
-    )
+        disable=None if _BARS.get() else True,
+    )  # fmt: skip  (None: only on a terminal)
     with bar, warnings.catch_warnings():
         # loky replaces a worker whose memory grew (a world's textures: ~250 MB) and says so
         warnings.filterwarnings("ignore", "A worker stopped while some jobs", UserWarning)
         results = Parallel(n_jobs=n_jobs, return_as="generator")(
-            delayed(_render_batch)(renderer, spec, folder, batch, n_jobs > 1) for batch in batches
+            delayed(_run_task)(renderer, *staged[index], batch, n_jobs > 1)
+            for index, batch in tasks
         )
-        for batch, written in zip(batches, results, strict=True):
-            for kind, file_name, digest, content in written:
-                files[kind][file_name] = digest
-                prints[kind][file_name] = content
+        for (index, batch), result in zip(tasks, results, strict=True):
+            if not batch:
+                truths[index] = result
+                continue
+            written[index] += result
             done += len(batch)
             bar.update(len(batch))
             if progress is not None:
-                progress(done, len(positions))
-    files = {kind: dict(sorted(names.items())) for kind, names in files.items()}
-    prints = {kind: dict(sorted(names.items())) for kind, names in prints.items()}
-    truth = _ground_truth(spec, renderer)
+                progress(done, total)
+    for (generation, folder), files, truth in zip(staged, written, truths, strict=True):
+        _finish(generation, folder, files, truth)
+
+
+def _finish(
+    generation: Generation, folder: Path, written: list[tuple[str, str, str, str]], truth: dict
+) -> None:
+    """Write the ground truth and, last, the manifest of a generation's ``written`` files
+    (kind, file name, sha256, fingerprint)."""
+    files: dict[str, dict[str, str | None]] = {"raw": {}, "unfolded": {}}
+    prints: dict[str, dict[str, str]] = {"raw": {}, "unfolded": {}}
+    for kind, file_name, digest, content in sorted(written):
+        files[kind][file_name] = digest
+        prints[kind][file_name] = content
     write_text_atomic(folder / GROUND_TRUTH_NAME, json.dumps(truth, indent=1, sort_keys=True))
+    spec, name, description = generation.spec, generation.name, generation.description
     manifest = manifest_for_spec(spec, name, description, files, prints)
     write_text_atomic(folder / MANIFEST_NAME, manifest.to_yaml())
+
+
+def _run_task(
+    renderer: Renderer,
+    generation: Generation,
+    folder: Path,
+    positions: list[tuple[int, int]],
+    in_worker: bool,
+) -> Any:
+    """A batch of positions (:func:`_render_batch`), or with none the world's ground truth."""
+    if not positions:
+        return _ground_truth(generation.spec, renderer)
+    return _render_batch(renderer, generation.spec, folder, positions, in_worker)
 
 
 def _split(items: Sequence[tuple[int, int]], n: int) -> list[list[tuple[int, int]]]:

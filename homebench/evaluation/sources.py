@@ -17,7 +17,7 @@ from pathlib import Path
 from homebench.config import DatabaseRef, RunConfig, SweptWorld
 from homebench.data import catalog
 from homebench.data.database import GridDatabase
-from homebench.data.generate import generate
+from homebench.data.generate import Generation, generate_many
 from homebench.data.manifest import KINDS, Manifest
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError, DataError
@@ -63,27 +63,32 @@ def _in_world(spec: WorldSpec, world: SweptWorld) -> WorldSpec:
     return WorldSpec.model_validate({**spec.model_dump(), **update}) if update else spec
 
 
-def _prepare(
-    alias: str, ref: DatabaseRef, config: RunConfig, jobs: int, world: SweptWorld
-) -> Source:
-    path = ref.path
+def _generation(alias: str, ref: DatabaseRef, world: SweptWorld) -> tuple[str, Generation | None]:
+    """Database ``alias`` in ``world``: its locator (see :class:`Source`) and the generation it
+    needs (its own world, or its generated set's, swept); None for a real set."""
     if ref.world is not None:
-        locator = str(generate(_in_world(ref.world, world), jobs=jobs, name=alias))
-        database = catalog.resolve(locator)
-    else:
-        assert ref.name is not None
-        manifest, _ = catalog.find_manifest(ref.name)
-        generator = manifest.generator
-        swept = None if generator is None else _in_world(generator.spec, world)
-        if swept is not None and swept != generator.spec:
-            locator = str(generate(swept, jobs=jobs, name=manifest.name))
-            database = catalog.resolve(locator)
-        elif generator is not None:
-            locator = ref.name
-            database = catalog.ensure_generated(locator, jobs=jobs)
-        else:
-            locator = ref.name
-            database = catalog.resolve(locator, path)
+        generation = Generation(_in_world(ref.world, world), name=alias)
+        return str(generation.folder), generation
+    assert ref.name is not None
+    manifest, own_folder = catalog.find_manifest(ref.name)
+    generator = manifest.generator
+    if generator is None:
+        return ref.name, None
+    swept = _in_world(generator.spec, world)
+    if swept != generator.spec:
+        generation = Generation(swept, name=manifest.name)
+        return str(generation.folder), generation
+    folder = catalog.generated_location(manifest, own_folder, None)
+    return ref.name, Generation(swept, folder, manifest.name, manifest.description)
+
+
+def _prepare(
+    alias: str, ref: DatabaseRef, config: RunConfig, locator: str, generated: bool
+) -> Source:
+    """The source of database ``alias`` at ``locator`` (``generated``: a generated world,
+    finished by now)."""
+    path = ref.path
+    database = catalog.resolve(locator, None if generated else path)
     manifest = database.manifest
     database.check_images(_kinds_read(config, alias, manifest))
     generator = manifest.generator
@@ -127,11 +132,16 @@ def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, SweptWorld]
     """Sources of every database alias used by a condition, per swept world (generating worlds
     as needed). Keys: (alias, (style, seed)), each None when the config does not sweep it."""
     used = {alias for _, current, goal in config.condition_pairs() for alias in (current, goal)}
-    return {
-        (alias, world): _prepare(alias, ref, config, jobs, world)
+    located = {
+        (alias, world): _generation(alias, ref, world)
         for world in config.worlds()
         for alias, ref in config.databases.items()
         if alias in used
+    }
+    generate_many([g for _, g in located.values() if g is not None], jobs)
+    return {
+        (alias, world): _prepare(alias, config.databases[alias], config, locator, g is not None)
+        for (alias, world), (locator, g) in located.items()
     }
 
 
