@@ -80,3 +80,35 @@ def test_pdf_dates_carry_the_offset() -> None:
     assert pdf_date(moment.replace(tzinfo=UTC)) == "D:20260102030405Z"
     east = timezone(timedelta(hours=5, minutes=30))
     assert pdf_date(moment.replace(tzinfo=east)) == "D:20260102030405+05'30'"
+
+
+def _embedded_fonts(path: Path) -> list[set[str]]:
+    """The table tags of every TrueType font embedded in the PDF at ``path``."""
+    from fontTools.ttLib import TTFont
+
+    fonts = []
+    for page in pypdf.PdfReader(path).pages:
+        for font in page["/Resources"]["/Font"].values():
+            descendant = font.get_object()["/DescendantFonts"][0].get_object()
+            data = descendant["/FontDescriptor"]["/FontFile2"].get_object().get_data()
+            fonts.append(set(TTFont(io.BytesIO(data)).keys()))
+    return fonts
+
+
+def test_report_pdfs_embed_fonts_without_the_layout_tables_no_viewer_reads(
+    tmp_path: Path,
+) -> None:
+    """Inside report_style the embedded subsets leave out GSUB, GPOS and GDEF (if fontTools
+    renames the default this relies on, this test says so); outside it they keep them, and the
+    text reads the same."""
+    with report_style(), FigureFiles(0) as files:
+        files.save(_figure(), tmp_path / "lean")
+    with plt.rc_context({"pdf.fonttype": 42}):  # the report's font type, outside the block
+        _figure().savefig(tmp_path / "plain.pdf")
+    lean, plain = _embedded_fonts(tmp_path / "lean.pdf"), _embedded_fonts(tmp_path / "plain.pdf")
+    assert lean and all(not font & {"GSUB", "GPOS", "GDEF"} for font in lean)
+    assert {"GSUB", "GPOS"} <= plain[0]  # DejaVu Sans has them: the test can fail
+    assert all({"glyf", "cmap", "hmtx"} <= font for font in lean)
+    texts = [pypdf.PdfReader(tmp_path / f"{name}.pdf").pages[0].extract_text()
+             for name in ("lean", "plain")]  # fmt: skip
+    assert texts[0] == texts[1]
