@@ -24,7 +24,6 @@ from typing import Any, Protocol
 
 import cv2
 import numpy as np
-from joblib import Parallel, delayed, effective_n_jobs
 from numpy.typing import NDArray
 from tqdm import tqdm
 
@@ -280,6 +279,8 @@ def _build(
 ) -> None:
     """Fill each staged folder with images, ground truth and, last, the manifest: one task per
     batch of positions, then each world's ground truth, in one parallel pass."""
+    from joblib import Parallel, delayed, effective_n_jobs  # here: job workers never need it
+
     n_jobs = effective_n_jobs(jobs)
     tasks: list[tuple[int, list[tuple[int, int]]]] = []  # (staged index, positions; [] = truth)
     for index, (generation, folder) in enumerate(staged):

@@ -86,6 +86,8 @@ U16Array = NDArray[np.uint16]
 
 #: rho samples per band column (over rho in [0, 1 + max_scale]) when tracing admissible pairs.
 _RHO_SAMPLES_PER_COLUMN = 40
+#: Goal columns traced at a time by :func:`search_template` (its arrays then stay in cache).
+_TEMPLATE_BLOCK = 8
 STACK_MAX = kernels.STACK_MAX
 
 ColumnDistance = Literal["ssd", "sad", "zssd", "zsad", "nssd", "nsad", "znssd", "znsad"]
@@ -167,17 +169,12 @@ class SearchTemplate:
 @lru_cache(maxsize=8)
 def search_template(n_columns: int, n_scales: int, max_scale: float) -> SearchTemplate:
     """Trace every goal column's admissible pairs over rho >= 0 (see the module docstring)."""
-    h = (n_scales - 1) // 2
-    rho = np.linspace(0.0, 1.0 + max_scale, _RHO_SAMPLES_PER_COLUMN * n_columns + 1)[None, :]
-    x = (TWO_PI / n_columns) * np.arange(n_columns)[:, None]
-    distance2 = 1.0 - 2.0 * rho * np.cos(x) + rho**2  # (n_columns, samples)
-    x_col, sample = np.nonzero(distance2 > 1e-12)
-    distance2 = distance2[x_col, sample]
-    y = np.arctan2(np.sin(x[x_col, 0]), np.cos(x[x_col, 0]) - rho[0, sample])
-    m = np.rint(-0.5 * h * np.log(distance2) / np.log(max_scale)).astype(np.intp)
-    inside = np.abs(m) <= h
-    y_col = np.rint(y[inside] * (n_columns / TWO_PI)).astype(np.intp) % n_columns
-    keys = np.unique((x_col[inside] * n_scales + m[inside] + h) * n_columns + y_col)
+    # keys grow with the goal column: each block's sorted keys follow the block before's
+    blocks = range(0, n_columns, _TEMPLATE_BLOCK)
+    keys = np.concatenate(
+        [_template_keys(range(b, min(b + _TEMPLATE_BLOCK, n_columns)), n_columns, n_scales,
+                        max_scale) for b in blocks]
+    )  # fmt: skip
     x_of, plane, y_of = (
         keys // (n_scales * n_columns),
         keys // n_columns % n_scales,
@@ -185,12 +182,31 @@ def search_template(n_columns: int, n_scales: int, max_scale: float) -> SearchTe
     )
     counts = np.bincount(x_of, minlength=n_columns)
     starts = _starts(counts.tolist())
-    per_x = [np.stack([plane, y_of], axis=1)[starts[i] : starts[i + 1]] for i in range(n_columns)]
+    pairs = np.stack([plane, y_of], axis=1)
+    per_x = [pairs[starts[i] : starts[i + 1]] for i in range(n_columns)]
     runs = [_runs(pairs, n_columns) for pairs in per_x]
     run_table = np.array([run for x_runs in runs for run in x_runs], dtype=np.intp)
     return SearchTemplate(
         starts, plane, y_of, _starts([len(x_runs) for x_runs in runs]), *run_table.T
     )
+
+
+def _template_keys(columns: range, n_columns: int, n_scales: int, max_scale: float) -> IntArray:
+    """Sorted unique keys ``(x * n_scales + plane) * n_columns + y`` of the admissible pairs of
+    goal columns ``columns``, traced over rho (the elementwise maths of one block of the
+    (n_columns, samples) grid, so the blocks' arrays stay in cache)."""
+    h = (n_scales - 1) // 2
+    rho = np.linspace(0.0, 1.0 + max_scale, _RHO_SAMPLES_PER_COLUMN * n_columns + 1)[None, :]
+    x = (TWO_PI / n_columns) * np.arange(n_columns)[columns.start : columns.stop, None]
+    distance2 = 1.0 - 2.0 * rho * np.cos(x) + rho**2  # (len(columns), samples)
+    row, sample = np.nonzero(distance2 > 1e-12)
+    distance2 = distance2[row, sample]
+    y = np.arctan2(np.sin(x[row, 0]), np.cos(x[row, 0]) - rho[0, sample])
+    m = np.rint(-0.5 * h * np.log(distance2) / np.log(max_scale)).astype(np.intp)
+    inside = np.abs(m) <= h
+    y_col = np.rint(y[inside] * (n_columns / TWO_PI)).astype(np.intp) % n_columns
+    x_col = row[inside] + columns.start
+    return np.unique((x_col * n_scales + m[inside] + h) * n_columns + y_col)
 
 
 def _starts(counts: list[int]) -> IntArray:
