@@ -9,7 +9,14 @@ import cv2
 import numpy as np
 import pytest
 
-from homebench.data.catalog import find_manifest, known_manifests, list_databases, resolve
+from homebench.data import catalog
+from homebench.data.catalog import (
+    find_manifest,
+    known_manifest,
+    known_manifests,
+    list_databases,
+    resolve,
+)
 from homebench.data.database import GridDatabase
 from homebench.data.manifest import load_manifest
 from homebench.errors import (
@@ -196,6 +203,32 @@ def test_user_manifest_folders_join_the_catalog(
     with pytest.raises(DataError, match="--path"):
         resolve("my-corridor")
     assert resolve("my-corridor", path=root).image(0, 0, "unfolded").shape == (12, 40)
+
+
+def test_a_name_is_found_as_the_whole_catalog_finds_it_parsing_one_file(
+    clean_env: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """known_manifest(name) is known_manifests()[name] (a user folder first, even for a shipped
+    name), and parses only files that may declare the name: one for a homebench-written
+    manifest, also any whose name line it cannot read cheaply (a quoted name)."""
+    folder = clean_env / "mine"
+    folder.mkdir()
+    (folder / "a-quoted.yaml").write_text(USER_MANIFEST.replace("name: my-corridor",
+                                                                'name: "my-quoted"'))  # fmt: skip
+    (folder / "corridor.yaml").write_text(USER_MANIFEST)
+    (folder / "z-shadow.yaml").write_text(USER_MANIFEST.replace("my-corridor", "synth-day"))
+    monkeypatch.setenv("HOMEBENCH_MANIFESTS", str(folder))
+    everything = known_manifests()
+    parsed: list[str] = []
+    original = catalog.load_manifest
+    monkeypatch.setattr(catalog, "load_manifest", lambda p: parsed.append(p.name) or original(p))
+    for name in ("synth-original", "synth-day", "my-corridor", "my-quoted", "bielefeld-day"):
+        parsed.clear()
+        entry = known_manifest(name)
+        assert entry == everything[name]
+        assert parsed == sorted({"a-quoted.yaml", everything[name].path.name}), name
+    assert known_manifest("synth-day").path == folder / "z-shadow.yaml"
+    assert known_manifest("nothing-of-that-name") is None
 
 
 def test_list_databases_rows(clean_env: Path, monkeypatch: pytest.MonkeyPatch) -> None:

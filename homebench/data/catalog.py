@@ -14,6 +14,8 @@ generated set, its cache folder ``<data dir>/synth/<name>-<spec key>/``, filled 
 from __future__ import annotations
 
 import os
+import re
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -30,7 +32,9 @@ from homebench.data.generate import (
 from homebench.data.manifest import Manifest, load_manifest
 from homebench.data.synth.spec import VARIANTS, WorldSpec
 from homebench.errors import ConfigError, DataError, UnknownDatabaseError
+from homebench.fileio import open_regular
 from homebench.suggest import unknown
+from homebench.yamlio import MAX_YAML_BYTES
 
 #: The manifests shipped with the repository (the package is installed editable from it).
 SHIPPED_MANIFESTS = Path(homebench.__file__).resolve().parent.parent / "data_manifests"
@@ -63,16 +67,56 @@ def manifest_dirs() -> list[Path]:
     return [*dirs, SHIPPED_MANIFESTS]
 
 
+def _manifest_files() -> Iterator[Path]:
+    """The manifest files of :func:`manifest_dirs`, in the order in which they win."""
+    for folder in manifest_dirs():
+        if folder.is_dir():
+            yield from sorted([*folder.glob("*.yaml"), *folder.glob("*.yml")])
+
+
 def known_manifests() -> dict[str, CatalogEntry]:
     """Every manifest in :func:`manifest_dirs`, by database name (the first folder wins)."""
     entries: dict[str, CatalogEntry] = {}
-    for folder in manifest_dirs():
-        if not folder.is_dir():
-            continue
-        for path in sorted([*folder.glob("*.yaml"), *folder.glob("*.yml")]):
-            manifest = load_manifest(path)
-            entries.setdefault(manifest.name, CatalogEntry(manifest.name, path, manifest))
+    for path in _manifest_files():
+        manifest = load_manifest(path)
+        entries.setdefault(manifest.name, CatalogEntry(manifest.name, path, manifest))
     return entries
+
+
+def known_manifest(name: str) -> CatalogEntry | None:
+    """``known_manifests().get(name)``, parsing only the files that may declare ``name``.
+
+    A manifest file lists every image's sums, so parsing all the known ones costs about 1.5 s,
+    in the main process and again in every job worker that opens a database by name. A file
+    whose one top-level ``name:`` line (:func:`declared_name`) names another database is
+    skipped unparsed; any other file is parsed, in the order :func:`known_manifests` takes.
+    """
+    for path in _manifest_files():
+        declared = declared_name(path)
+        if declared is not None and declared != name:
+            continue
+        manifest = load_manifest(path)
+        if manifest.name == name:
+            return CatalogEntry(name, path, manifest)
+    return None
+
+
+#: A top-level ``name:`` line with a plain scalar (as homebench writes manifests).
+_NAME_LINE = re.compile(rb"^name:[ \t]*([A-Za-z0-9][A-Za-z0-9_.+-]*)[ \t]*\r?$", re.MULTILINE)
+
+
+def declared_name(path: Path) -> str | None:
+    """The database name a manifest file declares on its one top-level ``name:`` line, read
+    without parsing the file; None when it has no such line, or several (a flow collection
+    continued at the margin could hold one): the file must then be parsed. Reads at most the
+    manifest size limit, and only from a regular file."""
+    try:
+        with open_regular(path) as f:
+            text = f.read(MAX_YAML_BYTES + 1)
+    except OSError:
+        return None
+    found = _NAME_LINE.findall(text)
+    return found[0].decode("ascii") if len(found) == 1 else None
 
 
 def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
@@ -85,16 +129,16 @@ def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
         return load_manifest(candidate / MANIFEST_NAME), candidate
     if candidate.is_file() or candidate.suffix in (".yaml", ".yml"):
         return load_manifest(candidate), candidate.parent
-    known = known_manifests()
-    if str(name_or_path) in known:
-        return known[str(name_or_path)].manifest, None
+    entry = known_manifest(str(name_or_path))
+    if entry is not None:
+        return entry.manifest, None
     if candidate.is_dir():
         raise DataError(f"{candidate}: a database folder needs a {MANIFEST_NAME}")
     raise UnknownDatabaseError(
         unknown(
             "database",
             str(name_or_path),
-            known,
+            known_manifests(),
             " (or give the path of a manifest .yaml or of a database folder)",
         )
     )
