@@ -22,6 +22,7 @@ import time
 from pathlib import Path
 
 import cv2
+from timing import AS_IN_WORKERS
 
 from homebench.config import RunConfig
 from homebench.data.catalog import ensure_generated
@@ -93,6 +94,7 @@ def main() -> None:
     parser.add_argument("--methods", nargs="+", default=list(METHODS))
     args = parser.parse_args()
     ensure_generated(DATABASE, jobs=2)
+    print(f"floor's allocator as in the job workers (freed memory kept): {AS_IN_WORKERS}")
     print(
         f"{'method':<12} {'pairs':>5} {'floor ms':>8} {'j1 ms':>7} {'ratio':>5} {'j2 ms':>7} "
         f"{'ratio':>5} {'j1 s':>6} {'j2 s':>6} {'speed-up':>8}  load before/after"

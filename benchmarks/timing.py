@@ -1,11 +1,22 @@
 """The timing rule every benchmark script shares (imported as ``from timing import per_call``;
-the scripts run from the repository root as ``python benchmarks/bench_x.py``)."""
+the scripts run from the repository root as ``python benchmarks/bench_x.py``).
+
+Importing it gives the benchmark process the job workers' allocator settings
+(:func:`~homebench.evaluation.worker.keep_freed_memory`), so that a method timed here runs as
+it does in a run: without them, a method that allocates large arrays per call pays page faults
+that depend on what the process allocated before.
+"""
 
 from __future__ import annotations
 
 import os
 import time
 from collections.abc import Callable
+
+from homebench.evaluation.worker import keep_freed_memory
+
+#: Whether this process keeps freed memory as the job workers do (False without glibc).
+AS_IN_WORKERS = keep_freed_memory()
 
 
 def per_call(function: Callable[[], object], repeats: int) -> float:

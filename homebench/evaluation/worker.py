@@ -20,6 +20,11 @@ import traceback
 from multiprocessing.connection import Connection
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
+M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3  # malloc.h (glibc)
+#: Blocks up to this size come from the heap in a worker (glibc's largest on 64 bits), and
+#: the heap keeps up to TRIM_BYTES free at its top (see :func:`keep_freed_memory`).
+MMAP_THRESHOLD_BYTES = 32 << 20
+TRIM_BYTES = 512 << 20
 
 
 def _poll_parent(parent: int) -> None:
@@ -41,6 +46,26 @@ def _die_with_parent(parent: int) -> None:
         os._exit(0)
 
 
+def keep_freed_memory() -> bool:
+    """Ask glibc's allocator to keep freed memory for reuse (blocks up to MMAP_THRESHOLD_BYTES
+    come from the heap, which is trimmed only past TRIM_BYTES free at its top) instead of
+    handing it back to the kernel at once; False where there is no glibc.
+
+    By default glibc maps a large block afresh and trims the heap's top as soon as a few
+    blocks are free, so a method that allocates and frees the same large arrays for every pair
+    pays the kernel's page faults every time: min-warping's search tables (9 MB each) took
+    about 4,300 faults per pair in a fresh process, 22.7 ms per pair against 9.0 ms with this.
+    Results do not change: only where freed memory goes.
+    """
+    try:
+        libc = ctypes.CDLL(None)
+        mallopt = libc.mallopt
+    except (AttributeError, OSError):
+        return False
+    settings = ((M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES), (M_TRIM_THRESHOLD, TRIM_BYTES))
+    return all(mallopt(option, value) == 1 for option, value in settings)
+
+
 def serve(conn: Connection, memory_mb: int, parent: int) -> None:
     """Take the parent's ``sys.path`` and import the modules it names (before the first call,
     so that no call's timeout pays for them); then run ``(function, args)`` calls until the
@@ -53,6 +78,7 @@ def serve(conn: Connection, memory_mb: int, parent: int) -> None:
         limit = memory_mb * 1024 * 1024
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
     _die_with_parent(parent)
+    keep_freed_memory()
     sys.path[:], preload = conn.recv()
     for module in preload:
         importlib.import_module(module)
