@@ -242,26 +242,21 @@ def legend_below(fig: Figure, handles: list, columns: int | None = None) -> None
 def save_figure(fig: Figure, stem_path: Path) -> list[Path]:
     """Write ``fig`` as ``<stem_path>.png`` (PNG_DPI), ``.pdf`` and ``.svg`` atomically.
 
-    The figure is laid out once and its layout then frozen (see :func:`freeze_layout`), so
-    the three files show the same picture; no dates or random ids in them: the same figure
-    always gives the same bytes.
+    The PNG is drawn first, and its draw lays the figure out (constrained layout); the layout
+    engine then stops, so the PDF and SVG show the same picture (the constrained layout moves
+    things a little at every draw) and no draw is spent on layout alone. No dates or random
+    ids in the files: the same figure always gives the same bytes.
     """
-    freeze_layout(fig)
-    return [_save(fig, path, path.suffix[1:]) for path in figure_paths(stem_path)]
+    png, *vector = figure_paths(stem_path)
+    written = [_save(fig, png, "png")]
+    fig.set_layout_engine("none")
+    return written + [_save(fig, path, path.suffix[1:]) for path in vector]
 
 
 def figure_paths(stem_path: Path) -> list[Path]:
-    """The files :func:`save_figure` writes for ``stem_path``, in order."""
+    """The files :func:`save_figure` writes for ``stem_path``, in order (PNG first)."""
     stem = Path(stem_path)
     return [stem.parent / f"{stem.name}.{suffix}" for suffix in SAVE_ARGS]
-
-
-def freeze_layout(fig: Figure) -> None:
-    """Lay ``fig`` out now and stop its layout engine: the constrained layout moves things a
-    little at every draw, so each save would otherwise differ from the one before."""
-    if fig.get_layout_engine() is not None:
-        fig.draw_without_rendering()
-        fig.set_layout_engine("none")
 
 
 def _save(fig: Figure, path: Path, suffix: str) -> Path:
