@@ -179,6 +179,28 @@ def test_one_world_failing_leaves_none_of_the_worlds_half_written(
     assert list(tmp_path.iterdir()) == []
 
 
+class RacingRenderer(FakeRenderer):
+    """Another process finishes ``spec`` in ``folder`` while this one renders it."""
+
+    def __init__(self, spec: WorldSpec, folder: Path):
+        self.spec, self.folder = spec, folder
+
+    def render_position(self, spec: WorldSpec, i: int, j: int) -> dict[str, np.ndarray]:
+        if spec == self.spec and not self.folder.exists():
+            generate(spec, self.folder, 1, "tiny", renderer=FakeRenderer())
+        return super().render_position(spec, i, j)
+
+
+def test_a_world_another_process_finishes_first_is_taken_and_the_others_still_move_in(
+    tmp_path: Path,
+) -> None:
+    together = [Generation(small_spec(seed=k), tmp_path / f"db-{k}", "tiny") for k in range(3)]
+    racing = RacingRenderer(together[1].spec, together[1].folder)
+    assert generate_many(together, 1, renderer=racing) == [g.folder for g in together]
+    assert all(is_generated(g.folder, g.spec) for g in together)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["db-0", "db-1", "db-2"]
+
+
 def test_two_worlds_cannot_share_a_folder(tmp_path: Path) -> None:
     together = [Generation(small_spec(seed=k), tmp_path / "db", "tiny") for k in range(2)]
     with pytest.raises(DataError, match="two different worlds"):

@@ -8,7 +8,6 @@ number of jobs.
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import math
@@ -16,7 +15,7 @@ import os
 import sys
 import warnings
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
@@ -256,7 +255,7 @@ def _generate_pending(
     """Build every generation of ``pending`` in a temporary folder
     (:func:`~homebench.fileio.atomic_directory`), then move each into place; a failure leaves
     none of the unfinished ones behind."""
-    stacks = [contextlib.ExitStack() for _ in pending]
+    stacks = [ExitStack() for _ in pending]  # one each: a world's move fails it alone
     try:
         folders = [
             stack.enter_context(atomic_directory(generation.folder))
@@ -267,8 +266,14 @@ def _generate_pending(
         for stack in stacks:  # each removes its temporary folder
             stack.__exit__(type(error), error, error.__traceback__)
         raise
+    failed = []
     for stack in stacks:  # each moves its folder into place
-        stack.close()
+        try:
+            stack.close()
+        except DataError as error:  # the folder appeared meanwhile: the caller looks at it
+            failed.append(error)
+    if failed:
+        raise failed[0]
 
 
 def _build(
@@ -299,8 +304,8 @@ def _build(
         desc=f"generate {names}",
         unit="position",
         file=sys.stderr,
-        disable=None if _BARS.get() else True,
-    )  # fmt: skip  (None: only on a terminal)
+        disable=None if _BARS.get() else True,  # None: off unless stderr is a terminal
+    )
     with bar, warnings.catch_warnings():
         # loky replaces a worker whose memory grew (a world's textures: ~250 MB) and says so
         warnings.filterwarnings("ignore", "A worker stopped while some jobs", UserWarning)
@@ -322,7 +327,10 @@ def _build(
 
 
 def _finish(
-    generation: Generation, folder: Path, written: list[tuple[str, str, str, str]], truth: dict
+    generation: Generation,
+    folder: Path,
+    written: list[tuple[str, str, str, str]],
+    truth: dict[str, Any],
 ) -> None:
     """Write the ground truth and, last, the manifest of a generation's ``written`` files
     (kind, file name, sha256, fingerprint)."""
