@@ -88,11 +88,11 @@ def known_manifest(name: str) -> CatalogEntry | None:
 
     A manifest file lists every image's sums, so parsing all the known ones costs about 1.5 s,
     in the main process and again in every job worker that opens a database by name. A file
-    whose one top-level ``name:`` line (:func:`declared_name`) names another database is
+    whose one top-level ``name:`` line (:func:`_declared_name`) names another database is
     skipped unparsed; any other file is parsed, in the order :func:`known_manifests` takes.
     """
     for path in _manifest_files():
-        declared = declared_name(path)
+        declared = _declared_name(path)
         if declared is not None and declared != name:
             continue
         manifest = load_manifest(path)
@@ -105,7 +105,7 @@ def known_manifest(name: str) -> CatalogEntry | None:
 _NAME_LINE = re.compile(rb"^name:[ \t]*([A-Za-z0-9][A-Za-z0-9_.+-]*)[ \t]*\r?$", re.MULTILINE)
 
 
-def declared_name(path: Path) -> str | None:
+def _declared_name(path: Path) -> str | None:
     """The database name a manifest file declares on its one top-level ``name:`` line, read
     without parsing the file; None when it has no such line, or several (a flow collection
     continued at the margin could hold one): the file must then be parsed. Reads at most the

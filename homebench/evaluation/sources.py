@@ -63,7 +63,7 @@ def _in_world(spec: WorldSpec, world: SweptWorld) -> WorldSpec:
     return WorldSpec.model_validate({**spec.model_dump(), **update}) if update else spec
 
 
-def _generation(alias: str, ref: DatabaseRef, world: SweptWorld) -> tuple[str, Generation | None]:
+def _locate(alias: str, ref: DatabaseRef, world: SweptWorld) -> tuple[str, Generation | None]:
     """Database ``alias`` in ``world``: its locator (see :class:`Source`) and the generation it
     needs (its own world, or its generated set's, swept); None for a real set."""
     if ref.world is not None:
@@ -133,7 +133,7 @@ def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, SweptWorld]
     as needed). Keys: (alias, (style, seed)), each None when the config does not sweep it."""
     used = {alias for _, current, goal in config.condition_pairs() for alias in (current, goal)}
     located = {
-        (alias, world): _generation(alias, ref, world)
+        (alias, world): _locate(alias, ref, world)
         for world in config.worlds()
         for alias, ref in config.databases.items()
         if alias in used

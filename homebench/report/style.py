@@ -168,7 +168,7 @@ def lean_pdf_fonts() -> Iterator[None]:
     :data:`PDF_UNUSED_FONT_TABLES`.
 
     fontTools parses those tables for every subset: about 0.1 s of CPU per font and document,
-    a sixth of a report's time. matplotlib builds its fontTools options itself, and fontTools
+    about a tenth of a report's time. matplotlib builds its fontTools options itself, and fontTools
     offers no public default for the tables to drop, so this extends the class default of
     ``fontTools.subset.Options`` and restores it afterwards; a fontTools without that default
     is left alone (the fonts then keep the tables, as before).
