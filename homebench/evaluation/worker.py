@@ -22,9 +22,11 @@ from multiprocessing.connection import Connection
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
 M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3  # malloc.h (glibc)
 #: Blocks up to this size come from the heap in a worker (glibc's largest on 64 bits), and
-#: the heap keeps up to TRIM_BYTES free at its top (see :func:`keep_freed_memory`).
+#: the heap keeps up to TRIM_BYTES free at its top (see :func:`keep_freed_memory`): enough for
+#: a pair's arrays (min-warping frees about 25 MB at once), little beside a worker's memory
+#: limit even with a worker per core of a large machine.
 MMAP_THRESHOLD_BYTES = 32 << 20
-TRIM_BYTES = 512 << 20
+TRIM_BYTES = 64 << 20
 
 
 def _poll_parent(parent: int) -> None:
