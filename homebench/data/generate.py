@@ -256,16 +256,13 @@ def _generate_pending(
     (:func:`~homebench.fileio.atomic_directory`), then move each into place; a failure leaves
     none of the unfinished ones behind."""
     stacks = [ExitStack() for _ in pending]  # one each: a world's move fails it alone
-    try:
-        folders = [
-            stack.enter_context(atomic_directory(generation.folder))
-            for stack, generation in zip(stacks, pending, strict=True)
-        ]
+    with ExitStack() as on_failure:  # exits every world's stack with the error: no move
+        folders = []
+        for stack, generation in zip(stacks, pending, strict=True):
+            on_failure.push(stack)
+            folders.append(stack.enter_context(atomic_directory(generation.folder)))
         _build(list(zip(pending, folders, strict=True)), jobs, renderer, progress)
-    except BaseException as error:
-        for stack in stacks:  # each removes its temporary folder
-            stack.__exit__(type(error), error, error.__traceback__)
-        raise
+        on_failure.pop_all()  # built: the worlds move in below, each on its own
     failed = []
     for stack in stacks:  # each moves its folder into place
         try:
