@@ -1,14 +1,16 @@
 """Jobs in isolated worker processes: a crash, a hang or a memory blow-up fails one job only.
 
-:class:`WorkerPool` keeps N persistent worker processes (fresh interpreters, see
-:mod:`homebench.evaluation.worker`) and feeds them one call at a time through a socket pair.
-Each worker imports the ``preload`` modules before it takes its first call, so a call's timeout
-counts the call only. A worker that dies (a segfault, the kernel's OOM killer) or exceeds the
+:class:`WorkerPool` keeps N persistent worker processes and feeds them one call at a time through
+a socket pair. The workers are forked by one worker server per pool
+(:mod:`homebench.evaluation.worker_server`, a fresh interpreter), which imports the ``preload``
+modules once before the first worker starts: no worker pays for them again, and no call's
+timeout counts them. A worker that dies (a segfault, the kernel's OOM killer) or exceeds the
 per-call timeout is killed and replaced; its call comes back as a :class:`Crash` naming the
-cause, and the other calls go on. Each worker runs under an address-space limit (``RLIMIT_AS``),
-so a runaway allocation raises MemoryError inside the job instead of exhausting the machine.
+cause, and the other calls go on. Each worker runs under an address-space limit
+(``RLIMIT_AS``), so a runaway allocation raises MemoryError inside the job instead of
+exhausting the machine.
 
-Workers are plain subprocesses, not ``multiprocessing`` children, so they can be started from
+The server is a plain subprocess, not a ``multiprocessing`` child, so pools can be opened from
 daemonic processes too: :func:`run_isolated` runs a call in one from inside a Dask task, which
 gives Dask jobs the same timeout and crash isolation.
 """
@@ -26,6 +28,7 @@ from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
+from multiprocessing.reduction import send_handle
 from typing import Any, TypeVar
 
 from homebench.errors import HomebenchError
@@ -70,34 +73,103 @@ def default_memory_mb(workers: int) -> int:
     return max(MIN_DEFAULT_MEMORY_MB, total // max(1, workers))
 
 
-def describe_exit(returncode: int | None, memory_mb: int | None) -> str:
-    """Why a worker process ended, in words."""
-    if returncode is None or returncode >= 0:
-        return f"worker exited with code {returncode}"
+def describe_exit(returncode: int | None, memory_mb: int | None, process: str = "worker") -> str:
+    """Why a ``process`` ended, in words (``returncode`` None: a worker that ended with its
+    worker server)."""
+    if returncode is None:
+        return f"{process} ended with its worker server"
+    if returncode >= 0:
+        return f"{process} exited with code {returncode}"
     number = -returncode
     try:
         name = signal.Signals(number).name
     except ValueError:
         name = f"signal {number}"
-    cause = f"worker killed by {name} ({signal.strsignal(number) or name})"
+    cause = f"{process} killed by {name} ({signal.strsignal(number) or name})"
     if number == signal.SIGKILL:
         limit = f", memory limit {memory_mb} MB per worker" if memory_mb else ""
         cause += f": out of memory? (the kernel's OOM killer sends SIGKILL{limit})"
     return cause
 
 
-class _Worker:
-    """One worker process, its connection, and the call it is running (if any)."""
+class _Server:
+    """The worker server process of a pool and its control connection (protocol: see
+    :mod:`homebench.evaluation.worker_server`). Starting it waits until it has imported
+    ``preload``."""
 
-    def __init__(self, memory_mb: int | None, preload: tuple[str, ...]):
+    def __init__(self, preload: tuple[str, ...]):
         ours, theirs = socket.socketpair()
-        command = [sys.executable, "-m", "homebench.evaluation.worker", str(theirs.fileno())]
-        command += [str(memory_mb or 0), str(os.getpid())]
+        command = [sys.executable, "-m", "homebench.evaluation.worker_server"]
+        command += [str(theirs.fileno()), str(os.getpid())]
         environment = {**os.environ, **dict.fromkeys(THREAD_LIMITS, "1")}
         self.process = subprocess.Popen(command, pass_fds=[theirs.fileno()], env=environment)
         theirs.close()
-        self.conn = Connection(ours.detach())
-        self.conn.send((sys.path, preload))
+        self.control = Connection(ours.detach())
+        self.ended: dict[int, int] = {}  # worker pid -> exit code, not yet asked for
+        self.control.send((sys.path, preload))
+        self._expect("ready")
+
+    def start(self, memory_mb: int | None) -> tuple[int, Connection]:
+        """A new worker limited to ``memory_mb`` (None: no limit): its pid and connection."""
+        ours, theirs = socket.socketpair()
+        with theirs:
+            try:
+                self.control.send(("start", memory_mb or 0))
+                send_handle(self.control, theirs.fileno(), self.process.pid)
+            except OSError:  # the server has ended: say how
+                pass
+        return self._expect("started"), Connection(ours.detach())
+
+    def stop(self, pid: int) -> int | None:
+        """Kill worker ``pid`` if it still runs; its exit code (None: the server has ended,
+        which ended the worker too)."""
+        try:
+            if pid not in self.ended:
+                self.control.send(("kill", pid))
+            while pid not in self.ended:
+                self._receive()
+        except (OSError, WorkerStartError):
+            return None
+        return self.ended.pop(pid)
+
+    def close(self) -> None:
+        """End the server (which kills the workers it still has) and wait for it."""
+        self.control.close()
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+    def _expect(self, kind: str) -> int:
+        """Read messages until one of ``kind``; its pid."""
+        while True:
+            message = self._receive()
+            if message[0] == kind:
+                return message[1]
+
+    def _receive(self) -> tuple:
+        """The next message (noting the workers' ends); WorkerStartError if the server has
+        ended."""
+        try:
+            message = self.control.recv()
+        except (EOFError, OSError):
+            returncode = self.process.wait()
+            raise WorkerStartError(
+                f"the worker server ended: {describe_exit(returncode, None, 'it')}; "
+                "see the messages above"
+            ) from None
+        if message[0] == "ended":
+            self.ended[message[1]] = message[2]
+        return message
+
+
+class _Worker:
+    """One worker process, its connection, and the call it is running (if any)."""
+
+    def __init__(self, server: _Server, memory_mb: int | None):
+        self.server = server
+        self.pid, self.conn = server.start(memory_mb)
         self.ready = self.busy = False
         self.item: Any = None
         self.started = 0.0
@@ -111,23 +183,24 @@ class _Worker:
         self.item, self.busy, self.started = item, True, time.monotonic()
         return True
 
-    def stop(self) -> int:
-        """Kill the process if it still runs; its return code."""
+    def stop(self) -> int | None:
+        """Kill the process if it still runs; its exit code (None: unknown, see
+        :meth:`_Server.stop`)."""
         self.conn.close()
-        if self.process.poll() is None:
-            self.process.kill()
-        return self.process.wait()
+        return self.server.stop(self.pid)
 
 
 class WorkerPool:
-    """``size`` persistent isolated workers, started when calls need them, each importing the
-    ``preload`` modules before its first call; a context manager (leaving it kills them)."""
+    """``size`` persistent isolated workers, started when calls need them, forked from a worker
+    server that imports the ``preload`` modules first; a context manager (leaving it ends the
+    workers and the server)."""
 
     def __init__(self, size: int, limits: Limits = Limits(), preload: tuple[str, ...] = ()):
         if size < 1:
             raise ValueError("a worker pool needs at least one worker")
         self.size, self.limits, self.preload = size, limits, preload
         self.workers: list[_Worker] = []
+        self.server: _Server | None = None
 
     def __enter__(self) -> WorkerPool:
         return self
@@ -137,8 +210,11 @@ class WorkerPool:
 
     def close(self) -> None:
         for w in self.workers:
-            w.stop()
+            w.conn.close()
         self.workers = []
+        if self.server is not None:
+            self.server.close()
+            self.server = None
 
     def map_unordered(
         self, function: Callable[..., Any], items: Iterable[T], args: tuple = ()
@@ -149,13 +225,22 @@ class WorkerPool:
         while pending or any(w.busy for w in self.workers):
             running = sum(w.busy for w in self.workers)
             while len(self.workers) < min(self.size, running + len(pending)):
-                self.workers.append(_Worker(self.limits.memory_mb, self.preload))
+                self.workers.append(_Worker(self._server(), self.limits.memory_mb))
             for w in self.workers:
                 if w.ready and not w.busy and pending:
                     item = pending.popleft()
                     if not w.assign(item, function, (item, *args)):
                         pending.appendleft(item)  # found dead below, then replaced
             yield from self._collect()
+
+    def _server(self) -> _Server:
+        """The pool's worker server: started on first use, and again if it has ended."""
+        if self.server is not None and self.server.process.poll() is not None:
+            self.server.close()
+            self.server = None
+        if self.server is None:
+            self.server = _Server(self.preload)
+        return self.server
 
     def _collect(self) -> Iterator[tuple[Any, Any]]:
         """Wait for a message, a dead worker or the next timeout; yield the calls that ended."""

@@ -1,19 +1,17 @@
 """One isolated worker process: receive a call, run it, send back its result; repeat.
 
-Started by :mod:`homebench.evaluation.isolation` as ``python -m homebench.evaluation.worker FD
-MEMORY_MB PARENT_PID``, with one thread per numeric library in its environment (parallelism
-comes from the job level; one thread keeps results equal for any number of workers). It imports
-nothing heavy itself: the calls it receives import what they need, once per worker.
+Forked by the worker server (:mod:`homebench.evaluation.worker_server`), which has imported
+what the calls need and set one thread per numeric library (parallelism comes from the job
+level; one thread keeps results equal for any number of workers). A worker only limits its own
+address space, ends with its server, and runs calls.
 """
 
 from __future__ import annotations
 
 import ctypes
-import importlib
 import os
 import pickle
 import signal
-import sys
 import threading
 import time
 import traceback
@@ -35,7 +33,7 @@ def _poll_parent(parent: int) -> None:
     os._exit(0)
 
 
-def _die_with_parent(parent: int) -> None:
+def die_with_parent(parent: int) -> None:
     """End with the parent (a killed run must not leave workers computing): on Linux the kernel
     kills the worker when the parent dies, elsewhere a thread watches the parent."""
     try:
@@ -68,22 +66,43 @@ def keep_freed_memory() -> bool:
     return all(mallopt(option, value) == 1 for option, value in settings)
 
 
-def serve(conn: Connection, memory_mb: int, parent: int) -> None:
-    """Take the parent's ``sys.path`` and import the modules it names (before the first call,
-    so that no call's timeout pays for them); then run ``(function, args)`` calls until the
-    connection closes, replying ``("ok", result)``, or ``("raised", text)`` for anything the
-    call raised that it did not handle itself (SystemExit included)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-    if memory_mb > 0:
-        import resource
+class AddressSpaceError(MemoryError):
+    """A worker's memory limit is below what it already maps."""
 
-        limit = memory_mb * 1024 * 1024
-        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-    _die_with_parent(parent)
-    keep_freed_memory()
-    sys.path[:], preload = conn.recv()
-    for module in preload:
-        importlib.import_module(module)
+
+def limit_address_space(memory_mb: int) -> None:
+    """Limit this process's address space to ``memory_mb`` (``RLIMIT_AS``), so that a runaway
+    allocation raises MemoryError; AddressSpaceError if the process already maps more (then
+    every allocation would fail: the limit is too small to run anything)."""
+    import resource
+
+    limit = memory_mb * 1024 * 1024
+    mapped = _mapped_bytes()
+    if mapped is not None and mapped >= limit:
+        raise AddressSpaceError(
+            f"the worker memory limit of {memory_mb} MB is below the {mapped >> 20} MB a "
+            "worker maps before its first call; raise worker_memory_mb"
+        )
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
+def _mapped_bytes() -> int | None:
+    """The size of this process's address space (None where /proc cannot say)."""
+    try:
+        with open("/proc/self/statm", "rb") as statm:
+            return int(statm.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def serve(conn: Connection, memory_mb: int, parent: int) -> None:
+    """Limit the address space to ``memory_mb`` (0: none), end with ``parent``, say ready; then
+    run ``(function, args)`` calls until the connection closes, replying ``("ok", result)``, or
+    ``("raised", text)`` for anything the call raised that it did not handle itself (SystemExit
+    included)."""
+    if memory_mb > 0:
+        limit_address_space(memory_mb)
+    die_with_parent(parent)
     conn.send(("ready", os.getpid()))
     while True:
         try:
@@ -96,8 +115,3 @@ def serve(conn: Connection, memory_mb: int, parent: int) -> None:
         except BaseException as error:  # noqa: BLE001  (the job failed, the worker goes on)
             reply = ("raised", "".join(traceback.format_exception_only(error)).strip())
         conn.send(reply)
-
-
-if __name__ == "__main__":
-    fd, memory, parent_pid = (int(arg) for arg in sys.argv[1:4])
-    serve(Connection(fd), memory, parent_pid)
