@@ -108,3 +108,18 @@ def test_a_memory_limit_below_what_a_worker_already_maps_is_a_start_error() -> N
         WorkerPool(1, Limits(memory_mb=16)) as pool,
     ):
         list(pool.map_unordered(_square, [2]))
+
+
+def _kill_server(_: object = None) -> None:
+    """Kill the worker's server (the kernel then kills the worker with it)."""
+    os.kill(os.getppid(), signal.SIGKILL)
+    time.sleep(600)
+
+
+def test_a_dead_server_fails_its_workers_calls_and_a_new_one_takes_over() -> None:
+    with WorkerPool(1) as pool:
+        ((_, (_, first_server)),) = pool.map_unordered(_pids, [None])
+        ((_, result),) = pool.map_unordered(_kill_server, [None])
+        ((_, (_, second_server)),) = pool.map_unordered(_pids, [None])
+    assert result == Crash("worker ended with its worker server")
+    assert second_server != first_server
