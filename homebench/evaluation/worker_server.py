@@ -19,6 +19,7 @@ kill can never reach another process that got a finished worker's pid.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import signal
@@ -55,7 +56,7 @@ class _Server:
             if self.control in ready:
                 try:
                     kind, value = self.control.recv()
-                except EOFError:
+                except (EOFError, OSError):  # closed, or reset (it left messages unread)
                     break
                 if kind == "start":
                     self._start(value)
@@ -104,7 +105,8 @@ class _Server:
             if pid == 0:
                 return
             self.workers.discard(pid)
-            self.control.send(("ended", pid, os.waitstatus_to_exitcode(status)))
+            with contextlib.suppress(OSError):  # the parent has closed: it no longer asks
+                self.control.send(("ended", pid, os.waitstatus_to_exitcode(status)))
 
 
 def main(control: Connection, parent: int) -> None:
