@@ -31,7 +31,7 @@ from homebench.report.definitions import definitions
 from homebench.report.document import load_content, write_report
 from homebench.report.heatmaps import HEAT_METRICS, _grid, heatmap_columns, heatmap_figure
 from homebench.report.pages import appendix_pages
-from homebench.report.style import report_style
+from homebench.report.style import report_style, save_figure
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
 #: What a real run records beyond the fake run's environment.
@@ -138,6 +138,22 @@ def test_a_caption_clears_a_legend_below_and_a_colour_bar() -> None:
         assert text.get_text().count("\n") >= 3
         assert box.x1 <= fig.bbox.x1
         assert not any(box.overlaps(other) for other in _boxes(fig))
+        plt.close(fig)
+
+
+def test_a_figure_laid_out_by_its_files_is_not_drawn_again_for_its_caption(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """save_figure lays the figure out and stops its engine (a placeholder engine remains):
+    the caption reuses that layout instead of drawing the figure once more."""
+    with report_style():
+        fig = plt.figure(figsize=(4.0, 3.0), layout="constrained")
+        fig.subplots().plot([0, 1], [1, 0])
+        save_figure(fig, tmp_path / "figure")
+        draws = []
+        monkeypatch.setattr(fig, "draw_without_rendering", lambda: draws.append(1))
+        add_caption(fig, "a caption")
+        assert draws == []
         plt.close(fig)
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import textwrap
 
 from matplotlib.figure import Figure
+from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
 
@@ -39,8 +40,9 @@ def _moved(box: Bbox, height: float, band: float) -> Bbox:
 def _freeze_and_grow(fig: Figure, band: float) -> None:
     """Lay ``fig`` out, stop its layout engine and grow it by ``band`` inches at the bottom,
     moving its axes, texts and legends up by as much (figures made of subfigures are not
-    handled). A figure already laid out (no layout engine left) is not drawn again."""
-    if fig.get_layout_engine() is not None:
+    handled). A figure already laid out (its engine stopped: none, or the placeholder that
+    ``set_layout_engine("none")`` leaves) is not drawn again."""
+    if not isinstance(fig.get_layout_engine(), PlaceHolderLayoutEngine | None):
         fig.draw_without_rendering()
     width, height = fig.get_size_inches()
     axes = [(ax, ax.get_position(original=True).frozen()) for ax in fig.axes]
