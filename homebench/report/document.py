@@ -437,18 +437,19 @@ def _write_run_pdf(
 ) -> tuple[list[FigureEntry], list[Path]]:
     """The PDF at ``path``: title page, warnings, the tables, the figures in their sections'
     order, the appendix. Forked children (:class:`FigureFiles`) draw the pages while this
-    process builds the next figure; the pages are then joined into one document."""
+    process builds the next figure (the text pages first: they need no figure, so they are not
+    left to the end); the pages are then joined into one document."""
     with tempfile.TemporaryDirectory(prefix="homebench-pages-") as temporary:
         pages = Path(temporary)
         front, back = pages / "front.pdf", pages / "back.pdf"
         with FigureFiles() as drawing:
             front_pages = partial(_front_pages, content)
             drawing.run("the title and table pages", partial(_text_pages, front, front_pages))
+            back_pages = partial(appendix_pages, content.appendix)
+            drawing.run("the appendix pages", partial(_text_pages, back, back_pages))
             figures, files, page_files = _write_figures(
                 content, folder / "figures", drawing, pages, progress
             )
-            back_pages = partial(appendix_pages, content.appendix)
-            drawing.run("the appendix pages", partial(_text_pages, back, back_pages))
         with atomic_write(path) as f:
             assemble_pdf([front, *page_files, back], f, _pdf_metadata(content.run))
     return figures, files
