@@ -2,8 +2,8 @@
 
 Every call runs a job that does (almost) nothing with a payload the size of a home job's, so the
 time per call is the cost of handing a job over and its outcome back. Workers are warm (started
-and importing before the clock runs); start-up is measured apart. Prints the load average, since
-the numbers mean little on a busy machine.
+and importing before the clock runs); start-up and shut-down are measured apart. Prints the
+load average, since the numbers mean little on a busy machine.
 
     python benchmarks/bench_isolation.py [--workers 2] [--calls 400] [--dask]
 """
@@ -58,6 +58,10 @@ def _local(workers: int, calls: int) -> dict[str, float]:
             results[f"isolated pool, {size} worker(s)"] = _per_call(
                 lambda n, p=pool: list(p.map_unordered(job, range(n), (PAYLOAD,))), calls
             )
+            closing = time.perf_counter()
+        results[f"isolated pool shut-down, {size} worker(s) [s, once]"] = (
+            time.perf_counter() - closing
+        )
     return results
 
 
