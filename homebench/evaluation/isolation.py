@@ -17,6 +17,7 @@ gives Dask jobs the same timeout and crash isolation.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import socket
@@ -112,12 +113,9 @@ class _Server:
     def start(self, memory_mb: int | None) -> tuple[int, Connection]:
         """A new worker limited to ``memory_mb`` (None: no limit): its pid and connection."""
         ours, theirs = socket.socketpair()
-        with theirs:
-            try:
-                self.control.send(("start", memory_mb or 0))
-                send_handle(self.control, theirs.fileno(), self.process.pid)
-            except OSError:  # the server has ended: say how
-                pass
+        with theirs, contextlib.suppress(OSError):  # the server has ended: _expect says how
+            self.control.send(("start", memory_mb or 0))
+            send_handle(self.control, theirs.fileno(), self.process.pid)
         return self._expect("started"), Connection(ours.detach())
 
     def stop(self, pid: int) -> int | None:
