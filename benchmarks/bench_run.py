@@ -5,7 +5,8 @@
 
 For each method, in this one process: the floor, the method alone (``describe`` of every image
 the run needs once, then ``home`` of every pair with what it needs beyond the two views; images
-decoded and one warm-up call made beforehand, not timed), as process CPU per pair; then fresh
+decoded and one warm-up call made beforehand, not timed; one thread per numeric library and the
+workers' allocator settings, as in the workers), as process CPU per pair; then fresh
 runs of the same plan (``run_plan`` in a new folder, workers included: the CPU of this process
 and its waited-for children per pair) with --jobs 1 and --jobs 2. Ratios: the run's CPU per pair
 over the floor's (target 1.15), and --jobs 1 wall time over --jobs 2's (target 1.8 on an idle
@@ -14,22 +15,29 @@ over the floor's (target 1.15), and --jobs 1 wall time over --jobs 2's (target 1
 
 from __future__ import annotations
 
-import argparse
 import os
-import resource
-import tempfile
-import time
-from pathlib import Path
 
-import cv2
-from timing import AS_IN_WORKERS
+from homebench.evaluation.isolation import THREAD_LIMITS
 
-from homebench.config import RunConfig
-from homebench.data.catalog import ensure_generated
-from homebench.evaluation.jobs import _GridViews
-from homebench.evaluation.plan import HomeJob, ImageTask, make_plan
-from homebench.evaluation.runner import Execution, run_plan
-from homebench.evaluation.sources import load_view, open_source, prepare_sources
+# one thread per numeric library, as in the workers, set before numpy loads: with more, the
+# floor of a method built on matrix products (warping) counts the other threads' CPU too
+os.environ.update(dict.fromkeys(THREAD_LIMITS, "1"))
+
+import argparse  # noqa: E402
+import resource  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import cv2  # noqa: E402
+from timing import AS_IN_WORKERS  # noqa: E402
+
+from homebench.config import RunConfig  # noqa: E402
+from homebench.data.catalog import ensure_generated  # noqa: E402
+from homebench.evaluation.jobs import _GridViews  # noqa: E402
+from homebench.evaluation.plan import HomeJob, ImageTask, make_plan  # noqa: E402
+from homebench.evaluation.runner import Execution, run_plan  # noqa: E402
+from homebench.evaluation.sources import load_view, open_source, prepare_sources  # noqa: E402
 
 METHODS = ("warping", "min-warping", "sift", "klt-sector")
 DATABASE = "synth-original"
