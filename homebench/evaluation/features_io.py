@@ -207,7 +207,7 @@ def load_features(path: Path, key: str) -> StoredFeatures:
     """The features stored under ``key`` in ``path``; DataError naming the file when it is
     missing, corrupt, of another key or format, or holds anything but plain data."""
     try:
-        structure, arrays = _RECENT.read(Path(path))
+        structure, arrays = _RECENT.read(path if isinstance(path, Path) else Path(path))
         if structure.get("format") != FORMAT or structure.get("key") != key:
             raise ValueError("written for other inputs")
         features = _Decoder(arrays).decode(structure["features"])

@@ -16,6 +16,7 @@ then the compass's turn plus the method's own rotation, and ``ae`` the error of 
 
 from __future__ import annotations
 
+import functools
 import json
 import time
 import traceback
@@ -120,7 +121,7 @@ def _describe(job: DescribeJob, run_dir: Path) -> None:
     method = job.method.create()
     failed = []
     for task in job.images:
-        path, key = task.feature_path(run_dir, job.method), task.feature_key(job.method)
+        path, key = _feature_file(task, run_dir, job.method.key)
         if _has_features(path, key):
             continue
         try:
@@ -135,8 +136,21 @@ def _describe(job: DescribeJob, run_dir: Path) -> None:
         raise DataError(f"describe failed for {len(failed)} image(s): {'; '.join(failed)}")
 
 
+#: Feature files whose path and key a process remembers (a few hundred bytes each).
+FEATURE_FILES_REMEMBERED = 16384
+
+
+@functools.lru_cache(maxsize=FEATURE_FILES_REMEMBERED)
+def _feature_file(task: ImageTask, run_dir: Path, method_key: str) -> tuple[Path, str]:
+    """The path and key of ``task``'s feature file in ``run_dir`` by the method of key
+    ``method_key``, remembered: a run's home jobs ask for every current view's once per goal,
+    and hashing the key and joining the path each time cost a warping pair a tenth of its
+    time."""
+    return task.feature_path(run_dir, method_key), task.feature_key(method_key)
+
+
 def _features(task: ImageTask, run_dir: Path, job: HomeJob) -> StoredFeatures:
-    return load_features(task.feature_path(run_dir, job.method), task.feature_key(job.method))
+    return load_features(*_feature_file(task, run_dir, job.method.key))
 
 
 class _GridViews:

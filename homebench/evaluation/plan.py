@@ -95,13 +95,15 @@ class ImageTask:
         """What determines this image as the method sees it (part of every key)."""
         return (self.source.identity, self.i, self.j, self.rotation, self.content)
 
-    def feature_key(self, method: MethodSpec) -> str:
-        return stable_hash({"method": method.key, "image": self.inputs})
+    def feature_key(self, method_key: str) -> str:
+        """The key of this image's features by the method of key ``method_key``."""
+        return stable_hash({"method": method_key, "image": self.inputs})
 
-    def feature_path(self, run_dir: Path, method: MethodSpec) -> Path:
+    def feature_path(self, run_dir: Path, method_key: str) -> Path:
+        """The file of this image's features by the method of key ``method_key``."""
         rotation = f"_r{round(math.degrees(self.rotation) * 1000)}" if self.rotation else ""
         name = f"{self.i}_{self.j}{rotation}.npz"
-        return run_dir / "features" / method.key / self.source.identity / name
+        return run_dir / "features" / method_key / self.source.identity / name
 
 
 @dataclass(frozen=True)
