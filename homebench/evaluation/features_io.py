@@ -24,6 +24,7 @@ view's features once per goal; their arrays are read-only, as they are shared by
 from __future__ import annotations
 
 import dataclasses
+import functools
 import io
 import json
 import zipfile
@@ -111,7 +112,10 @@ class _Decoder:
 
     def __init__(self, arrays: dict[str, np.ndarray]):
         self.arrays = arrays
-        self.allowed = _allowed()
+
+    @functools.cached_property  # only features that hold dataclasses ask (a warping pair's do not)
+    def allowed(self) -> dict[str, type]:
+        return _allowed()
 
     def decode(self, node: Any) -> Any:
         if isinstance(node, list):
