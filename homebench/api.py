@@ -129,7 +129,7 @@ def run(
     if report and not done.tables.summary.empty:
         from homebench.report.document import write_report
 
-        write_report(done.outcome.run_dir)
+        write_report(done.outcome.run_dir, tables=done.tables)
     return done.outcome.run_dir
 
 

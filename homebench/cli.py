@@ -199,10 +199,9 @@ def methods() -> None:
 
 def _format_summary(tables: Any, config: Any) -> str:
     """The run's summary table as the report shows it (the same cells, order and marks)."""
-    from homebench.evaluation.results import method_comparisons
     from homebench.report.tables import config_order, summary_view, to_text
 
-    view = summary_view(tables.summary, config_order(config), method_comparisons(tables))
+    view = summary_view(tables.summary, config_order(config), tables.comparisons)
     return to_text(view)
 
 
@@ -396,8 +395,8 @@ def run(
     if not no_report and not tables.summary.empty:
         from homebench.report.document import write_report
 
-        report_files = write_report(outcome.run_dir, progress=not no_progress).files
-        click.echo(f"report: {report_files[-1]}")
+        report = write_report(outcome.run_dir, progress=not no_progress, tables=tables)
+        click.echo(f"report: {report.files[-1]}")
     failed_pairs = _report_failures(outcome, tables.pairs)
     if outcome.failures or failed_pairs:
         sys.exit(EXIT_CRASH)

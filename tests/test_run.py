@@ -80,6 +80,33 @@ def test_run_writes_tables_with_sensible_metrics(tmp_path: Path, arena_manifest:
         assert (run_dir / name).is_file()
 
 
+def test_a_run_reads_its_results_and_compares_its_methods_once(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The tables, the printed summary and the report share one reading of the job files and
+    one set of paired comparisons (each took a quick start's main process 0.1-0.3 s)."""
+    from homebench.evaluation import comparisons, results
+
+    calls = {"load_pairs": 0, "comparison_table": 0}
+
+    def counted(module: object, name: str) -> None:
+        original = getattr(module, name)
+
+        def count(*args: object, **kwargs: object) -> object:
+            calls[name] += 1
+            return original(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, count)
+
+    counted(results, "load_pairs")
+    counted(comparisons, "comparison_table")
+    path = _config(tmp_path, arena_manifest)
+    result = CliRunner().invoke(main, ["run", str(path), "--no-progress"])
+    assert result.exit_code == 0, result.stderr
+    assert (tmp_path / "run" / "report" / "report.pdf").is_file()
+    assert calls == {"load_pairs": 1, "comparison_table": 1}
+
+
 def test_tables_are_equal_across_workers_backends_and_shards(
     tmp_path: Path, arena_manifest: Path
 ) -> None:

@@ -12,6 +12,7 @@ factors, so the tables are identical across runs and job counts.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from dataclasses import dataclass, field
@@ -361,6 +362,12 @@ class RunTables:
     summary_by_seed: pd.DataFrame = field(default_factory=pd.DataFrame)
     rr_starts: pd.DataFrame = field(default_factory=pd.DataFrame)
 
+    @functools.cached_property
+    def comparisons(self) -> pd.DataFrame:
+        """:func:`method_comparisons` of these tables, worked out once: the tables, the printed
+        summary and the report all show them. Read it, do not change it."""
+        return method_comparisons(self)
+
 
 def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
     loaded = load_pairs(run_dir)
@@ -465,7 +472,7 @@ def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Pa
         ("goals", tables.goals),
         ("ahc", tables.ahc),
         ("rr_starts", tables.rr_starts),
-        ("comparisons", method_comparisons(tables)),
+        ("comparisons", tables.comparisons),
     ]
     if not tables.summary_by_seed.empty:
         named.append(("summary_by_seed", tables.summary_by_seed))

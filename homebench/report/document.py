@@ -30,6 +30,7 @@ from tqdm import tqdm
 
 from homebench import __version__
 from homebench.errors import DataError
+from homebench.evaluation.results import RunTables
 from homebench.fileio import atomic_write, write_text_atomic
 from homebench.report import reuse
 from homebench.report.appendix import Appendix, run_appendix
@@ -237,8 +238,10 @@ def _grid_figures(run: RunData, max_goals: int | None) -> Iterator[tuple[str, st
         yield stem, METRICS_SECTION, caption, fig
 
 
-def _grid_content(info: RunInfo, max_goals: int | None) -> ReportContent:
-    run = grid_run(info)
+def _grid_content(
+    info: RunInfo, max_goals: int | None, tables: RunTables | None = None
+) -> ReportContent:
+    run = grid_run(info, tables)
     warnings = list(run.tables.missing_jobs)
     if run.tables.pairs.empty:
         shown = "; ".join(warnings[:3]) + (" ..." if len(warnings) > 3 else "")
@@ -295,14 +298,17 @@ def _closed_loop_content(info: RunInfo) -> ReportContent:
     return ReportContent(info, summary, views, len(views) - 1, run.warnings, figures, appendix)
 
 
-def load_content(run_dir: Path, max_goals: int | None = None) -> ReportContent:
-    """What the report of ``run_dir`` shows, by the run's kind (grid, route or closed-loop)."""
+def load_content(
+    run_dir: Path, max_goals: int | None = None, tables: RunTables | None = None
+) -> ReportContent:
+    """What the report of ``run_dir`` shows, by the run's kind (grid, route or closed-loop);
+    a grid run's ``tables`` when the caller has them (see :func:`write_report`)."""
     info = read_run_info(run_dir)
     if info.kind == "route":
         return _route_content(info)
     if info.kind == "closed-loop":
         return _closed_loop_content(info)
-    return _grid_content(info, max_goals)
+    return _grid_content(info, max_goals, tables)
 
 
 def _pdf_metadata(run: RunInfo) -> dict[str, str | datetime]:
@@ -372,9 +378,12 @@ def write_report(
     max_goals: int | None = None,
     *,
     progress: bool = True,
+    tables: RunTables | None = None,
 ) -> ReportOutcome:
     """Write the report of ``run_dir`` (a grid or a route run) under ``out_dir`` (default
-    ``run_dir/report``).
+    ``run_dir/report``). ``tables``: a grid run's tables as the caller has just built them
+    from this folder (:func:`~homebench.evaluation.results.build_tables` with the run
+    config's metrics, as ``homebench run`` does), so that they are not read again.
 
     Always: ``tables/`` (grid: summary, RR per goal, AHC per distance; route: per route length
     and per trial; as CSV, MD and TeX) and ``figures/`` (each figure as PNG, PDF and SVG);
@@ -398,19 +407,24 @@ def write_report(
     if done is not None:
         return ReportOutcome(*done)
     reuse.forget(folder)
-    outcome = _build_report(run_dir, formats, folder, max_goals, progress)
+    outcome = _build_report(run_dir, formats, folder, max_goals, progress, tables)
     reuse.remember(folder, key, outcome.files, outcome.warnings)
     return outcome
 
 
 def _build_report(
-    run_dir: Path, formats: Sequence[str], folder: Path, max_goals: int | None, progress: bool
+    run_dir: Path,
+    formats: Sequence[str],
+    folder: Path,
+    max_goals: int | None,
+    progress: bool,
+    tables: RunTables | None,
 ) -> ReportOutcome:
     """Write the report (see :func:`write_report`) under ``folder``."""
-    content = load_content(run_dir, max_goals)
+    content = load_content(run_dir, max_goals, tables)
     run = content.run
     folder.mkdir(parents=True, exist_ok=True)
-    tables = write_views(content.views, folder / "tables")
+    table_files = write_views(content.views, folder / "tables")
     documents = []
     with report_style():
         if "pdf" in formats:
@@ -429,7 +443,7 @@ def _build_report(
                           content.appendix)  # fmt: skip
             write_text_atomic(path, text)
             documents.append(path)
-    return ReportOutcome([*tables, *figure_files, *documents], content.warnings)
+    return ReportOutcome([*table_files, *figure_files, *documents], content.warnings)
 
 
 def _write_run_pdf(

@@ -114,8 +114,9 @@ def validation_error(path: Path, prefix: str, error: ValidationError) -> DataErr
     return DataError(f"{path}: {where}: {first['msg']}")
 
 
-def grid_run(info: RunInfo) -> RunData:
-    """The metrics settings and tables of a grid run.
+def grid_run(info: RunInfo, tables: RunTables | None = None) -> RunData:
+    """The metrics settings and tables of a grid run: ``tables`` when the caller has built them
+    from this folder with its config's metrics (as ``homebench run`` has), else read here.
 
     Missing or corrupt job files do not raise: they are listed in ``tables.missing_jobs``.
     """
@@ -123,7 +124,8 @@ def grid_run(info: RunInfo) -> RunData:
         metrics = MetricsConfig.model_validate(info.config.get("metrics", {}))
     except ValidationError as error:
         raise validation_error(info.run_dir / CONFIG_FILE, "metrics", error) from None
-    tables = build_tables(info.run_dir, metrics)
+    if tables is None:
+        tables = build_tables(info.run_dir, metrics)
     return RunData(info.run_dir, info.config, info.environment, metrics, tables)
 
 

@@ -27,7 +27,7 @@ import pandas as pd
 from pydantic import ValidationError
 
 from homebench.config import MethodEntry
-from homebench.evaluation.results import RunTables, method_comparisons
+from homebench.evaluation.results import RunTables
 from homebench.fileio import write_text_atomic
 from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
 
@@ -463,7 +463,7 @@ def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
     comparisons with a single method)."""
     if tables.pairs.empty:
         return []
-    comparisons = method_comparisons(tables)
+    comparisons = tables.comparisons
     views = [
         summary_view(tables.summary, order, comparisons),
         rr_by_goal_view(tables.goals, order),
