@@ -141,6 +141,25 @@ def test_identical_bytes_with_one_and_two_jobs(tmp_path: Path) -> None:
     assert _tree(one) == _tree(two)
 
 
+def test_on_start_is_called_before_rendering_and_only_when_a_world_is_pending(
+    tmp_path: Path,
+) -> None:
+    """(A run starts its workers' set-up there, while the worlds render.)"""
+    together = [Generation(small_spec(seed=s), tmp_path / f"db-{s}", "tiny") for s in (5, 6)]
+    rendered: list[tuple[int, int]] = []
+
+    class Counting(FakeRenderer):
+        def render_position(self, spec: WorldSpec, i: int, j: int) -> dict[str, np.ndarray]:
+            rendered.append((i, j))
+            return super().render_position(spec, i, j)
+
+    seen: list[int] = []
+    generate_many(together, 1, renderer=Counting(), on_start=lambda: seen.append(len(rendered)))
+    assert seen == [0]  # once, before the first position
+    generate_many(together, 1, renderer=FailingRenderer((0, 0)), on_start=lambda: seen.append(1))
+    assert seen == [0]  # both generated: nothing to start
+
+
 @pytest.mark.parametrize("jobs", [1, 2])
 def test_nothing_half_written_when_generation_fails(tmp_path: Path, jobs: int) -> None:
     with pytest.raises(RuntimeError, match="renderer crashed"):

@@ -123,3 +123,32 @@ def test_a_dead_server_fails_its_workers_calls_and_a_new_one_takes_over() -> Non
         ((_, (_, second_server)),) = pool.map_unordered(_pids, [None])
     assert result == Crash("worker ended with its worker server")
     assert second_server != first_server
+
+
+def test_a_started_server_imports_before_the_first_call_and_serves_it(
+    counting_preload: Path,
+) -> None:
+    with WorkerPool(1, preload=(PRELOAD_MODULE,)) as pool:
+        pool.start_server()
+        deadline = time.monotonic() + 60
+        while not counting_preload.exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        importers = counting_preload.read_text().split()  # before any call
+        ((_, (_, server)),) = pool.map_unordered(_pids, [None])
+    assert importers == [str(server)]
+
+
+def test_closing_a_pool_whose_server_is_still_importing_ends_it_at_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A run that needs no worker (every job done) does not wait for the server's imports."""
+    (tmp_path / "homebench_test_slow_preload.py").write_text("import time\ntime.sleep(600)\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    pool = WorkerPool(1, preload=("homebench_test_slow_preload",))
+    pool.start_server()
+    assert pool.server is not None
+    server = pool.server.process
+    start = time.monotonic()
+    pool.close()
+    assert time.monotonic() - start < 30
+    assert server.poll() is not None

@@ -212,15 +212,19 @@ def generate_many(
     *,
     renderer: Renderer | None = None,
     progress: Progress | None = None,
+    on_start: Callable[[], object] | None = None,
 ) -> list[Path]:
     """Generate each of ``generations`` as :func:`generate` does; their folders, in order.
 
     The positions of every world that is not generated yet are rendered by one pool of ``jobs``
     workers, so that no world waits for the last positions of the one before it; each world's
-    ground truth is a task of the pool too. ``progress(done, total)`` counts all positions.
+    ground truth is a task of the pool too. ``progress(done, total)`` counts all positions;
+    ``on_start()`` is called before rendering begins (never when no world is to be rendered).
     """
     pending = _pending(generations)
     if pending:
+        if on_start is not None:
+            on_start()
         try:
             _generate_pending(pending, jobs, renderer or SynthRenderer(), progress)
         except DataError:

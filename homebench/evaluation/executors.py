@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any, Literal, Protocol
 
 from homebench.errors import ConfigError
+from homebench.evaluation.code_version import uses_numba
 from homebench.evaluation.isolation import (
     Crash,
     Limits,
@@ -26,9 +27,20 @@ from homebench.evaluation.isolation import (
     run_isolated,
 )
 from homebench.evaluation.jobs import JobOutcome
+from homebench.methods import registry
 
 #: What every worker imports before its first job (so that no job's timeout pays for it).
 PRELOAD = ("homebench.evaluation.jobs", "homebench.methods")
+#: Imported too when a run's methods run numba kernels (see :func:`preload_for`).
+NUMBA_WARMUP = "homebench.evaluation.numba_warmup"
+
+
+def preload_for(methods: Iterable[str]) -> tuple[str, ...]:
+    """What the workers of a run of the registered ``methods`` (names) import first:
+    :data:`PRELOAD`, and numba's set-up (:mod:`~homebench.evaluation.numba_warmup`) when one of
+    them runs compiled kernels, which would otherwise cost each worker half a second or more."""
+    jitted = any(uses_numba(registry.get(name).__module__) for name in set(methods))
+    return PRELOAD + ((NUMBA_WARMUP,) if jitted else ())
 
 
 @dataclass(frozen=True)
@@ -78,16 +90,22 @@ class Executor(Protocol):
 
     limits: Limits
 
+    def start(self) -> None:
+        """Set the workers up now, while the caller does other work (else on first use)."""
+
     def map(
         self, work: Callable[[Any, Path], JobOutcome], jobs: Sequence[Any], run_dir: Path
     ) -> Iterator[tuple[Any, JobOutcome | Crash]]: ...
 
 
 class _Local:
-    """Local isolated workers (started when the first job needs them)."""
+    """Local isolated workers (their server started by :meth:`start`, else by the first job)."""
 
     def __init__(self, pool: WorkerPool):
         self.pool, self.limits = pool, pool.limits
+
+    def start(self) -> None:
+        self.pool.start_server()
 
     def map(
         self, work: Callable[[Any, Path], JobOutcome], jobs: Sequence[Any], run_dir: Path
@@ -99,8 +117,11 @@ class _Dask:
     """Dask tasks (no retries), each running its job in an isolated worker of the Dask worker.
     A Dask worker that dies anyway fails its task (KilledWorker), not the run."""
 
-    def __init__(self, client: Any, limits: Limits):
-        self.client, self.limits = client, limits
+    def __init__(self, client: Any, limits: Limits, preload: tuple[str, ...]):
+        self.client, self.limits, self.preload = client, limits, preload
+
+    def start(self) -> None:
+        """Nothing: the cluster is up, and its isolated workers start with their tasks."""
 
     def map(
         self, work: Callable[[Any, Path], JobOutcome], jobs: Sequence[Any], run_dir: Path
@@ -109,7 +130,13 @@ class _Dask:
 
         futures = {
             self.client.submit(
-                run_isolated, work, (job, run_dir), self.limits, PRELOAD, pure=False, retries=0
+                run_isolated,
+                work,
+                (job, run_dir),
+                self.limits,
+                self.preload,
+                pure=False,
+                retries=0,
             ): job
             for job in jobs
         }
@@ -135,11 +162,12 @@ def _dask_limits(client: Any, execution: Execution) -> Limits:
 
 
 @contextlib.contextmanager
-def open_executor(execution: Execution) -> Iterator[Executor]:
+def open_executor(execution: Execution, preload: tuple[str, ...] = PRELOAD) -> Iterator[Executor]:
+    """The executor ``execution`` asks for, whose workers import ``preload`` first."""
     if execution.backend == "local":
         memory = execution.memory_mb or default_memory_mb(execution.workers)
         limits = Limits(execution.timeout_s, memory)
-        with WorkerPool(execution.workers, limits, PRELOAD) as pool:
+        with WorkerPool(execution.workers, limits, preload) as pool:
             yield _Local(pool)
         return
     try:
@@ -168,4 +196,4 @@ def open_executor(execution: Execution) -> Iterator[Executor]:
                     )  # fmt: skip
                 )
             client = stack.enter_context(Client(cluster))
-        yield _Dask(client, _dask_limits(client, execution))
+        yield _Dask(client, _dask_limits(client, execution), preload)

@@ -95,8 +95,8 @@ def describe_exit(returncode: int | None, memory_mb: int | None, process: str = 
 
 class _Server:
     """The worker server process of a pool and its control connection (protocol: see
-    :mod:`homebench.evaluation.worker_server`). Starting it waits until it has imported
-    ``preload``."""
+    :mod:`homebench.evaluation.worker_server`). It imports ``preload`` while the pool goes on;
+    the first worker waits for it."""
 
     def __init__(self, preload: tuple[str, ...]):
         ours, theirs = socket.socketpair()
@@ -108,10 +108,13 @@ class _Server:
         self.control = Connection(ours.detach())
         self.ended: dict[int, int] = {}  # worker pid -> exit code, not yet asked for
         self.control.send((sys.path, preload))
-        self._expect("ready")
+        self.ready = False
 
     def start(self, memory_mb: int | None) -> tuple[int, Connection]:
         """A new worker limited to ``memory_mb`` (None: no limit): its pid and connection."""
+        if not self.ready:
+            self._expect("ready")
+            self.ready = True
         ours, theirs = socket.socketpair()
         with theirs, contextlib.suppress(OSError):  # the server has ended: _expect says how
             self.control.send(("start", memory_mb or 0))
@@ -131,8 +134,11 @@ class _Server:
         return self.ended.pop(pid)
 
     def close(self) -> None:
-        """End the server (which kills the workers it still has) and wait for it."""
+        """End the server (which kills the workers it still has) and wait for it; a server
+        still importing has no worker and is killed at once."""
         self.control.close()
+        if not self.ready:
+            self.process.kill()
         try:
             self.process.wait(timeout=10)
         except subprocess.TimeoutExpired:
@@ -213,6 +219,11 @@ class WorkerPool:
         if self.server is not None:
             self.server.close()
             self.server = None
+
+    def start_server(self) -> None:
+        """Start the worker server now, so that it imports the preload modules while the
+        caller does other work (the first call starts it otherwise)."""
+        self._server()
 
     def map_unordered(
         self, function: Callable[..., Any], items: Iterable[T], args: tuple = ()

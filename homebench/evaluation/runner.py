@@ -14,7 +14,6 @@ finish. The run folder is locked and belongs to one config
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import shutil
 from collections.abc import Callable, Iterator, Sequence
@@ -26,7 +25,7 @@ from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
 from homebench.evaluation.data_checks import check_source
-from homebench.evaluation.executors import Execution, Executor, open_executor
+from homebench.evaluation.executors import Execution, Executor, open_executor, preload_for
 from homebench.evaluation.failures import (
     Failure,
     clear_failure,
@@ -130,24 +129,29 @@ def run_plan(
     determines a result) or ``force`` (every job is recomputed). ``overrides``: the
     ``key=value`` settings the config was loaded with, recorded in ``environment.json``."""
     run_dir = Path(config.output)
-    with lock_run_folder(run_dir, shared=execution.shard is not None):
-        sources: dict[tuple[str, SweptWorld], Source] = prepare_sources(config, execution.jobs)
+    preload = preload_for(name for _, name, _ in config.method_points())
+    with (
+        lock_run_folder(run_dir, shared=execution.shard is not None),
+        open_executor(execution, preload) as executor,
+    ):
+        # worlds to generate: the workers' set-up (imports, numba) runs meanwhile
+        sources: dict[tuple[str, SweptWorld], Source] = prepare_sources(
+            config, execution.jobs, on_generate=executor.start
+        )
         checks = {source.identity: check_source(source) for source in sources.values()}
         plan = make_plan(config, sources, config_path)
-        with contextlib.ExitStack() as stack:
-            with claim_run_folder(run_dir):  # limits are execution settings: no part of it
-                resolved = resolve_config(config, execution, Limits())
-                check_owner(run_dir, resolved, force or update)
-                executor = stack.enter_context(open_executor(execution))
-                resolved = resolve_config(config, execution, executor.limits)
-                extra = run_sections(config, execution, force, plan, sources)
-                extra["overrides"]["config"] = list(overrides)
-                extra["data_checks"] = {
-                    identity: check.as_dict() for identity, check in checks.items() if check
-                }
-                write_run_metadata(config, config_path, run_dir, resolved, extra)
-                write_plan_index(plan, run_dir)
-            outcome = _run_jobs(plan, run_dir, execution, executor, force, show_progress)
+        with claim_run_folder(run_dir):  # limits are execution settings: no part of it
+            resolved = resolve_config(config, execution, Limits())
+            check_owner(run_dir, resolved, force or update)
+            resolved = resolve_config(config, execution, executor.limits)
+            extra = run_sections(config, execution, force, plan, sources)
+            extra["overrides"]["config"] = list(overrides)
+            extra["data_checks"] = {
+                identity: check.as_dict() for identity, check in checks.items() if check
+            }
+            write_run_metadata(config, config_path, run_dir, resolved, extra)
+            write_plan_index(plan, run_dir)
+        outcome = _run_jobs(plan, run_dir, execution, executor, force, show_progress)
     notes = tuple(note for check in checks.values() if check and (note := check.note()))
     return dataclasses.replace(outcome, notes=notes)
 

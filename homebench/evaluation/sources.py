@@ -10,6 +10,7 @@ headers: nothing is decoded).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -128,9 +129,12 @@ def _kinds_read(config: RunConfig, alias: str, manifest: Manifest) -> tuple[Imag
     return tuple(kind for kind in KINDS if kind in read)
 
 
-def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, SweptWorld], Source]:
+def prepare_sources(
+    config: RunConfig, jobs: int, on_generate: Callable[[], object] | None = None
+) -> dict[tuple[str, SweptWorld], Source]:
     """Sources of every database alias used by a condition, per swept world (generating worlds
-    as needed). Keys: (alias, (style, seed)), each None when the config does not sweep it."""
+    as needed; ``on_generate()`` is called first when there are any). Keys: (alias, (style,
+    seed)), each None when the config does not sweep it."""
     used = {alias for _, current, goal in config.condition_pairs() for alias in (current, goal)}
     located = {
         (alias, world): _locate(alias, ref, world)
@@ -138,7 +142,7 @@ def prepare_sources(config: RunConfig, jobs: int) -> dict[tuple[str, SweptWorld]
         for alias, ref in config.databases.items()
         if alias in used
     }
-    generate_many([g for _, g in located.values() if g is not None], jobs)
+    generate_many([g for _, g in located.values() if g is not None], jobs, on_start=on_generate)
     return {
         (alias, world): _prepare(alias, config.databases[alias], config, locator, g is not None)
         for (alias, world), (locator, g) in located.items()
