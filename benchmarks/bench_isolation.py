@@ -2,10 +2,8 @@
 
 Every call runs a job that does (almost) nothing with a payload the size of a home job's, so the
 time per call is the cost of handing a job over and its outcome back. Workers are warm (started
-and importing before the clock runs); start-up and shut-down are measured apart, and so is a
-new worker's first numba kernel call (CPU), with and without numba set up by the worker server
-(:data:`~homebench.evaluation.executors.NUMBA_WARMUP`). Prints the load average, since the
-numbers mean little on a busy machine.
+and importing before the clock runs); start-up and shut-down are measured apart. Prints the
+load average, since the numbers mean little on a busy machine.
 
     python benchmarks/bench_isolation.py [--workers 2] [--calls 400] [--dask]
 """
@@ -19,26 +17,15 @@ from collections.abc import Callable
 
 from joblib import Parallel, delayed
 
-from homebench.evaluation.executors import NUMBA_WARMUP, PRELOAD
 from homebench.evaluation.isolation import Limits, WorkerPool, run_isolated
 
 PAYLOAD = bytes(20_000)  # a pickled home job of a 10 x 17 grid is about this size
+PRELOAD = ("homebench.evaluation.jobs", "homebench.methods")
 
 
 def job(item: int, payload: bytes) -> int:
     """The job: nothing but taking its payload and returning a small outcome."""
     return item + len(payload)
-
-
-def first_kernel_call(_: int) -> float:
-    """CPU seconds of a worker's first call of a numba kernel (min-warping's quantize)."""
-    import numpy as np
-
-    from homebench.methods.min_warping_kernels import quantize
-
-    start = time.process_time()
-    quantize(np.zeros((4, 4), np.float32), 1.0)
-    return time.process_time() - start
 
 
 def _per_call(run: Callable[[int], None], calls: int) -> float:
@@ -75,13 +62,6 @@ def _local(workers: int, calls: int) -> dict[str, float]:
         results[f"isolated pool shut-down, {size} worker(s) [s, once]"] = (
             time.perf_counter() - closing
         )
-    for how, preload in (
-        ("cold", PRELOAD),
-        ("set up by the server", (*PRELOAD, NUMBA_WARMUP)),
-    ):
-        with WorkerPool(workers, Limits(), preload) as pool:
-            cpu = [seconds for _, seconds in pool.map_unordered(first_kernel_call, range(workers))]
-        results[f"first numba call per worker, {how} [s, once]"] = max(cpu)
     return results
 
 
