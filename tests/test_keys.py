@@ -13,8 +13,7 @@ import pytest
 from conftest import arena_config, run_config
 from plugins import install_plugin
 
-from homebench.evaluation.code_version import code_version, source_closure, uses_numba
-from homebench.evaluation.executors import NUMBA_WARMUP, PRELOAD, preload_for
+from homebench.evaluation.code_version import code_version, source_closure
 from homebench.fileio import read_grey, write_png
 from homebench.methods import registry
 
@@ -97,27 +96,6 @@ def test_source_closure_follows_imports_within_the_package_only(
         "toypkg.method",
         "toypkg.sub.deep",
     ]
-
-
-def test_a_method_uses_numba_when_its_closure_imports_it(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Its run's worker server then sets numba up once for every worker."""
-    _package(
-        tmp_path,
-        {
-            "jitpkg/__init__.py": "",
-            "jitpkg/method.py": "from jitpkg import kernels\n",
-            "jitpkg/kernels.py": "from numba import njit\n",
-            "jitpkg/plain.py": "import numpy\n",
-        },
-    )
-    monkeypatch.syspath_prepend(str(tmp_path))
-    assert uses_numba("jitpkg.method") and uses_numba("jitpkg.kernels")
-    assert not uses_numba("jitpkg.plain")
-    assert preload_for(["warping", "sift"]) == PRELOAD
-    for jitted in ("min-warping", "klt-sector"):
-        assert preload_for(["warping", jitted]) == (*PRELOAD, NUMBA_WARMUP)
 
 
 def test_builtin_code_version_is_the_package_version_and_a_source_hash() -> None:

@@ -79,16 +79,6 @@ def source_closure(module: str) -> dict[str, Path]:
     return closure
 
 
-def uses_numba(module: str) -> bool:
-    """Whether ``module`` or a module of its package it imports, transitively, imports numba
-    (so that a method of it runs compiled kernels)."""
-    return any(
-        name.partition(".")[0] == "numba"
-        for found, path in source_closure(module).items()
-        for name in _imports(found, path)
-    )
-
-
 def module_version(module: str) -> str:
     """A sha256 (16 hex digits) of the source of ``module`` and of the modules of its
     top-level package it imports, transitively."""

@@ -18,7 +18,6 @@ from pathlib import Path
 from typing import Any, Literal, Protocol
 
 from homebench.errors import ConfigError
-from homebench.evaluation.code_version import uses_numba
 from homebench.evaluation.isolation import (
     Crash,
     Limits,
@@ -27,20 +26,9 @@ from homebench.evaluation.isolation import (
     run_isolated,
 )
 from homebench.evaluation.jobs import JobOutcome
-from homebench.methods import registry
 
 #: What every worker imports before its first job (so that no job's timeout pays for it).
 PRELOAD = ("homebench.evaluation.jobs", "homebench.methods")
-#: Imported too when a run's methods run numba kernels (see :func:`preload_for`).
-NUMBA_WARMUP = "homebench.evaluation.numba_warmup"
-
-
-def preload_for(methods: Iterable[str]) -> tuple[str, ...]:
-    """What the workers of a run of the registered ``methods`` (names) import first:
-    :data:`PRELOAD`, and numba's set-up (:mod:`~homebench.evaluation.numba_warmup`) when one of
-    them runs compiled kernels, which would otherwise cost each worker half a second or more."""
-    jitted = any(uses_numba(registry.get(name).__module__) for name in set(methods))
-    return PRELOAD + ((NUMBA_WARMUP,) if jitted else ())
 
 
 @dataclass(frozen=True)
@@ -117,8 +105,8 @@ class _Dask:
     """Dask tasks (no retries), each running its job in an isolated worker of the Dask worker.
     A Dask worker that dies anyway fails its task (KilledWorker), not the run."""
 
-    def __init__(self, client: Any, limits: Limits, preload: tuple[str, ...]):
-        self.client, self.limits, self.preload = client, limits, preload
+    def __init__(self, client: Any, limits: Limits):
+        self.client, self.limits = client, limits
 
     def start(self) -> None:
         """Nothing: the cluster is up, and its isolated workers start with their tasks."""
@@ -130,13 +118,7 @@ class _Dask:
 
         futures = {
             self.client.submit(
-                run_isolated,
-                work,
-                (job, run_dir),
-                self.limits,
-                self.preload,
-                pure=False,
-                retries=0,
+                run_isolated, work, (job, run_dir), self.limits, PRELOAD, pure=False, retries=0
             ): job
             for job in jobs
         }
@@ -162,12 +144,12 @@ def _dask_limits(client: Any, execution: Execution) -> Limits:
 
 
 @contextlib.contextmanager
-def open_executor(execution: Execution, preload: tuple[str, ...] = PRELOAD) -> Iterator[Executor]:
-    """The executor ``execution`` asks for, whose workers import ``preload`` first."""
+def open_executor(execution: Execution) -> Iterator[Executor]:
+    """The executor ``execution`` asks for (its workers import :data:`PRELOAD` first)."""
     if execution.backend == "local":
         memory = execution.memory_mb or default_memory_mb(execution.workers)
         limits = Limits(execution.timeout_s, memory)
-        with WorkerPool(execution.workers, limits, preload) as pool:
+        with WorkerPool(execution.workers, limits, PRELOAD) as pool:
             yield _Local(pool)
         return
     try:
@@ -196,4 +178,4 @@ def open_executor(execution: Execution, preload: tuple[str, ...] = PRELOAD) -> I
                     )  # fmt: skip
                 )
             client = stack.enter_context(Client(cluster))
-        yield _Dask(client, _dask_limits(client, execution), preload)
+        yield _Dask(client, _dask_limits(client, execution))

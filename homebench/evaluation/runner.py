@@ -25,7 +25,7 @@ from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
 from homebench.evaluation.data_checks import check_source
-from homebench.evaluation.executors import Execution, Executor, open_executor, preload_for
+from homebench.evaluation.executors import Execution, Executor, open_executor
 from homebench.evaluation.failures import (
     Failure,
     clear_failure,
@@ -129,12 +129,11 @@ def run_plan(
     determines a result) or ``force`` (every job is recomputed). ``overrides``: the
     ``key=value`` settings the config was loaded with, recorded in ``environment.json``."""
     run_dir = Path(config.output)
-    preload = preload_for(name for _, name, _ in config.method_points())
     with (
         lock_run_folder(run_dir, shared=execution.shard is not None),
-        open_executor(execution, preload) as executor,
+        open_executor(execution) as executor,
     ):
-        # worlds to generate: the workers' set-up (imports, numba) runs meanwhile
+        # worlds to generate: the worker server imports meanwhile
         sources: dict[tuple[str, SweptWorld], Source] = prepare_sources(
             config, execution.jobs, on_generate=executor.start
         )
