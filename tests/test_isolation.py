@@ -152,3 +152,19 @@ def test_closing_a_pool_whose_server_is_still_importing_ends_it_at_once(
     pool.close()
     assert time.monotonic() - start < 30
     assert server.poll() is not None
+
+
+def test_a_server_that_cannot_import_its_preload_is_a_start_error_said_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Started early (while a run generates its worlds), a server whose preload fails is not
+    started again by the first call: the error is the broken setup's, once."""
+    (tmp_path / "homebench_test_broken_preload.py").write_text("raise ImportError('broken')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with WorkerPool(1, preload=("homebench_test_broken_preload",)) as pool:
+        pool.start_server()
+        assert pool.server is not None
+        pool.server.process.wait(timeout=60)
+        with pytest.raises(WorkerStartError, match="worker server ended"):
+            list(pool.map_unordered(_square, [2]))
+    assert capfd.readouterr().err.count("ImportError: broken") == 1

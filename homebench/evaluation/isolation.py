@@ -243,9 +243,11 @@ class WorkerPool:
             yield from self._collect()
 
     def _server(self) -> _Server:
-        """The pool's worker server: started on first use, and again if it has ended."""
-        if self.server is not None and self.server.process.poll() is not None:
-            self.server.close()
+        """The pool's worker server: started on first use, and again if it has ended after
+        serving (one that ended before it was ready fails the next start, saying how)."""
+        server = self.server
+        if server is not None and server.ready and server.process.poll() is not None:
+            server.close()
             self.server = None
         if self.server is None:
             self.server = _Server(self.preload)
