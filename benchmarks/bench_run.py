@@ -7,13 +7,11 @@ For each method: the floor, the method alone (``describe`` of every image the ru
 then ``home`` of every pair with what it needs beyond the two views; images decoded and one
 warm-up call made beforehand, not timed), as process CPU per pair, in an isolated worker as
 the jobs run (one thread per numeric library, their allocator settings, forked from a worker
-server; SIFT's floor still reads above its runs: describing 170 images while keeping their
-features took 120-130 ms each, where the describe jobs, which drop them, took 60-67); then
-fresh runs of the same plan (``run_plan`` in a new folder, workers included: the CPU of this
-process and its waited-for children per pair) with --jobs 1 and --jobs 2. Ratios: the run's
-CPU per pair over the floor's (target 1.15), and --jobs 1 wall time over --jobs 2's (target 1.8
-on an idle 2-core machine). The load average before and after each line says how busy the
-machine was.
+server); then fresh runs of the same plan (``run_plan`` in a new folder, workers included:
+the CPU of this process and its waited-for children per pair) with --jobs 1 and --jobs 2.
+Ratios: the run's CPU per pair over the floor's (target 1.15), and --jobs 1 wall time over
+--jobs 2's (target 1.8 on an idle 2-core machine). The load average before and after each
+line says how busy the machine was.
 """
 
 from __future__ import annotations
