@@ -131,7 +131,9 @@ def test_a_started_server_imports_before_the_first_call_and_serves_it(
     with WorkerPool(1, preload=(PRELOAD_MODULE,)) as pool:
         pool.start_server()
         deadline = time.monotonic() + 60
-        while not counting_preload.exists() and time.monotonic() < deadline:
+        while time.monotonic() < deadline and not (
+            counting_preload.exists() and counting_preload.read_text().endswith("\n")
+        ):
             time.sleep(0.05)
         importers = counting_preload.read_text().split()  # before any call
         ((_, (_, server)),) = pool.map_unordered(_pids, [None])
