@@ -17,10 +17,10 @@ from collections.abc import Callable
 
 from joblib import Parallel, delayed
 
+from homebench.evaluation.executors import PRELOAD
 from homebench.evaluation.isolation import Limits, WorkerPool, run_isolated
 
 PAYLOAD = bytes(20_000)  # a pickled home job of a 10 x 17 grid is about this size
-PRELOAD = ("homebench.evaluation.jobs", "homebench.methods")
 
 
 def job(item: int, payload: bytes) -> int:
