@@ -26,9 +26,19 @@ from homebench.evaluation.isolation import (
     run_isolated,
 )
 from homebench.evaluation.jobs import JobOutcome
+from homebench.methods import registry
 
 #: What every worker imports before its first job (so that no job's timeout pays for it).
 PRELOAD = ("homebench.evaluation.jobs", "homebench.methods")
+
+
+def preload_for(methods: Iterable[str]) -> tuple[str, ...]:
+    """What the workers of jobs by the registered ``methods`` import first: :data:`PRELOAD`
+    and each method's ``preload_modules``, the compiled kernels its module imports only when
+    they first run (a process that lists or checks methods then never imports numba, and the
+    workers of a run that needs it share one import)."""
+    extra = (m for name in methods for m in getattr(registry.get(name), "preload_modules", ()))
+    return tuple(dict.fromkeys((*PRELOAD, *extra)))
 
 
 @dataclass(frozen=True)
@@ -105,8 +115,8 @@ class _Dask:
     """Dask tasks (no retries), each running its job in an isolated worker of the Dask worker.
     A Dask worker that dies anyway fails its task (KilledWorker), not the run."""
 
-    def __init__(self, client: Any, limits: Limits):
-        self.client, self.limits = client, limits
+    def __init__(self, client: Any, limits: Limits, preload: tuple[str, ...]):
+        self.client, self.limits, self.preload = client, limits, preload
 
     def start(self) -> None:
         """Nothing: the cluster is up, and its isolated workers start with their tasks."""
@@ -118,7 +128,7 @@ class _Dask:
 
         futures = {
             self.client.submit(
-                run_isolated, work, (job, run_dir), self.limits, PRELOAD, pure=False, retries=0
+                run_isolated, work, (job, run_dir), self.limits, self.preload, pure=False, retries=0
             ): job
             for job in jobs
         }
@@ -144,12 +154,12 @@ def _dask_limits(client: Any, execution: Execution) -> Limits:
 
 
 @contextlib.contextmanager
-def open_executor(execution: Execution) -> Iterator[Executor]:
-    """The executor ``execution`` asks for (its workers import :data:`PRELOAD` first)."""
+def open_executor(execution: Execution, preload: tuple[str, ...] = PRELOAD) -> Iterator[Executor]:
+    """The executor ``execution`` asks for; its workers import ``preload`` first."""
     if execution.backend == "local":
         memory = execution.memory_mb or default_memory_mb(execution.workers)
         limits = Limits(execution.timeout_s, memory)
-        with WorkerPool(execution.workers, limits, PRELOAD) as pool:
+        with WorkerPool(execution.workers, limits, preload) as pool:
             yield _Local(pool)
         return
     try:
@@ -178,4 +188,4 @@ def open_executor(execution: Execution) -> Iterator[Executor]:
                     )  # fmt: skip
                 )
             client = stack.enter_context(Client(cluster))
-        yield _Dask(client, _dask_limits(client, execution))
+        yield _Dask(client, _dask_limits(client, execution), preload)

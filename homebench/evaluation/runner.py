@@ -25,7 +25,13 @@ from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
 from homebench.evaluation.data_checks import check_source
-from homebench.evaluation.executors import Execution, Executor, open_executor
+from homebench.evaluation.executors import (
+    PRELOAD,
+    Execution,
+    Executor,
+    open_executor,
+    preload_for,
+)
 from homebench.evaluation.failures import (
     Failure,
     clear_failure,
@@ -78,13 +84,15 @@ def run_parallel(
     n_jobs: int,
     label: str,
     show_progress: bool,
+    preload: tuple[str, ...] = PRELOAD,
 ) -> list[JobOutcome]:
     """Run ``work(job, run_dir)`` for every job in ``n_jobs`` isolated local workers (-1: one
-    per core), with a progress bar; the outcomes as they finish (a crash as the job's error)."""
+    per core) that import ``preload`` first, with a progress bar; the outcomes as they finish
+    (a crash as the job's error)."""
     if not jobs:
         return []
     execution = Execution(jobs=n_jobs)
-    with open_executor(execution) as executor:
+    with open_executor(execution, preload) as executor:
         results = executor.map(work, jobs, run_dir)
         return [outcome for _, outcome in _outcomes(label, results, len(jobs), show_progress)]
 
@@ -129,9 +137,10 @@ def run_plan(
     determines a result) or ``force`` (every job is recomputed). ``overrides``: the
     ``key=value`` settings the config was loaded with, recorded in ``environment.json``."""
     run_dir = Path(config.output)
+    preload = preload_for(entry.method for entry in config.methods)
     with (
         lock_run_folder(run_dir, shared=execution.shard is not None),
-        open_executor(execution) as executor,
+        open_executor(execution, preload) as executor,
     ):
         # worlds to generate: the worker server imports meanwhile
         sources: dict[tuple[str, SweptWorld], Source] = prepare_sources(

@@ -52,6 +52,11 @@ class HomingMethod(Protocol):
     its ``home`` then takes ``route=``, the features of the intermediate views from the goal
     towards the current view, which the engine supplies, described by the method's
     ``describe_route(view)`` where it has one (else ``describe``).
+
+    A method whose module imports heavy modules only when they first run (compiled numba
+    kernels: importing numba costs a third of a second of CPU) names them in the class
+    attribute ``preload_modules`` (a tuple of module names); the worker server of a run with
+    the method imports them once, before it forks the workers.
     """
 
     name: ClassVar[str]

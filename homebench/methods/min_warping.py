@@ -63,6 +63,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from types import ModuleType
 from typing import ClassVar, Literal
 
 import numpy as np
@@ -72,7 +73,6 @@ from numpy.typing import NDArray
 from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, wrap_angle
 from homebench.imaging.horizon import band_elevations, horizon_band
-from homebench.methods import min_warping_kernels as kernels
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.params import check_choices, documented, param
 from homebench.methods.registry import register
@@ -88,7 +88,8 @@ U16Array = NDArray[np.uint16]
 _RHO_SAMPLES_PER_COLUMN = 40
 #: Goal columns traced at a time by :func:`search_template` (its arrays then stay in cache).
 _TEMPLATE_BLOCK = 8
-STACK_MAX = kernels.STACK_MAX
+#: Largest entry of the quantised stack: distances are scaled so the pair's largest is this.
+STACK_MAX = 65535
 
 ColumnDistance = Literal["ssd", "sad", "zssd", "zsad", "nssd", "nsad", "znssd", "znsad"]
 
@@ -293,10 +294,19 @@ class _NumpySearch:
         return swapped(self.stack) if swap else self.stack
 
 
+def _kernels() -> ModuleType:
+    """The compiled kernels, imported by their first use: importing this module (as the
+    command line does for every method) does not import numba."""
+    from homebench.methods import min_warping_kernels
+
+    return min_warping_kernels
+
+
 class _CompiledSearch:
     """Costs by the numba kernels; the search tables of each view are built once."""
 
     def __init__(self, stack: U16Array, template: SearchTemplate, step: int) -> None:
+        self.kernels = _kernels()
         self.stack, self.step, self.n = stack, step, stack.shape[1]
         self.runs = (
             template.run_start,
@@ -309,16 +319,16 @@ class _CompiledSearch:
         self.tables: dict[bool, U16Array] = {}
 
     def coarse(self, swap: bool) -> I64Array:
-        by_s = kernels.coarse_costs(self._table(swap), self.step, *self.runs)
+        by_s = self.kernels.coarse_costs(self._table(swap), self.step, *self.runs)
         a = np.arange(self.n // self.step)[:, None]
         return by_s[(a - a.T) % by_s.shape[0], a]  # by_s is [alpha - psi, alpha]
 
     def at(self, alphas: IntArray, psis: IntArray, swap: bool) -> I64Array:
-        return kernels.table_costs(self._table(swap), self.step, *self.runs, alphas, psis)
+        return self.kernels.table_costs(self._table(swap), self.step, *self.runs, alphas, psis)
 
     def _table(self, swap: bool) -> U16Array:
         if swap not in self.tables:
-            self.tables[swap] = kernels.search_table(self.stack, self.step, swap, self.levels)
+            self.tables[swap] = self.kernels.search_table(self.stack, self.step, swap, self.levels)
         return self.tables[swap]
 
 
@@ -332,6 +342,7 @@ class MinWarping:
 
     name: ClassVar[str] = "min-warping"
     image_kind: ClassVar[ImageKind] = "unfolded"
+    preload_modules: ClassVar[tuple[str, ...]] = ("homebench.methods.min_warping_kernels",)
 
     n_columns: int = param(96, "Search steps of alpha and psi over a full turn (Möller: 96).")
     columns_per_step: int = param(
@@ -451,6 +462,7 @@ class MinWarping:
         squared = self.distance.endswith("ssd")
         sizes = [np.sum(v * v if squared else np.abs(v), axis=1) for v in (goal, current)]
         normalized = self.distance.lstrip("z").startswith("n")
+        kernels = _kernels()
         planes = kernels.distance_planes(goal, current, *sizes, squared, normalized)
         return kernels.quantize(planes, float(planes.max()))
 

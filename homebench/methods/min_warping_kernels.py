@@ -15,6 +15,11 @@ sums run elementwise over the current columns, each in a fixed order over the ro
 width does not change a result; the search is integer. ``nogil`` lets threads share a process.
 ``cache=True`` keeps the machine code in this package's ``__pycache__`` (numba writes it
 atomically; without write access it falls back to a user cache directory).
+
+:mod:`~homebench.methods.min_warping` imports this module at its first compiled search, not
+with itself, so that a process that only lists or checks methods does not import numba (a
+third of a second of CPU); a job worker server imports it before forking the workers of a run
+with min-warping (the method's ``preload_modules``).
 """
 
 from __future__ import annotations
@@ -23,8 +28,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-#: Largest entry of the quantised stack: distances are scaled so the pair's largest is this.
-STACK_MAX = 65535
+from homebench.methods.min_warping import STACK_MAX
 
 
 @njit(cache=True, nogil=True)

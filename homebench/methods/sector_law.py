@@ -14,8 +14,9 @@ being feature k.
   option ``linear`` reads both from their smallest position (column 0 when given columns). The
   features are the same in both views, so each LCS is a longest increasing subsequence of
   positions (O(n log n)); all rotations cost O(n^2 log n), their lengths found in a compiled
-  loop (numba, integers: 4.5 ms in Python -> 0.35 ms for 100 features), the chain of the first
-  longest rotation by :func:`longest_increasing`.
+  loop (:mod:`~homebench.methods.sector_law_kernels`, numba, integers: 4.5 ms in Python ->
+  0.35 ms for 100 features), the chain of the first longest rotation by
+  :func:`longest_increasing`.
 - **Sectors**: consecutive kept features in the circular order of S bound n sectors (the last
   one wraps round to the first feature); sector k has angular size ``S_k`` in S and ``G_k`` in G
   (ccw from its first to its second feature, in [0, 2*pi)).
@@ -43,7 +44,6 @@ from collections.abc import Hashable, Sequence
 from typing import Literal
 
 import numpy as np
-from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from homebench.geometry import TWO_PI, PanoramaGeometry, angle_diff, circular_mean, wrap_angle
@@ -83,33 +83,6 @@ def longest_increasing(values: Sequence[int]) -> list[int]:
     return chain[::-1]
 
 
-@njit(cache=True, nogil=True)
-def first_longest_rotation(values: NDArray[np.int64]) -> int:
-    """The first start k whose rotation ``values[k:] + values[:k]`` has the longest strictly
-    increasing subsequence (patience sorting per rotation, as :func:`longest_increasing`)."""
-    n = values.size
-    tails = np.empty(n, np.int64)
-    best_length, best_start = 0, 0
-    for start in range(n):
-        length = 0
-        for k in range(n):
-            value = values[(start + k) % n]
-            low, high = 0, length
-            while low < high:  # bisect_left on tails[:length]
-                middle = (low + high) // 2
-                if tails[middle] < value:
-                    low = middle + 1
-                else:
-                    high = middle
-            tails[low] = value
-            length = max(length, low + 1)
-        if length > best_length:
-            best_length, best_start = length, start
-            if length == n:
-                break
-    return best_start
-
-
 def longest_common_order(
     first: Sequence[Hashable], second: Sequence[Hashable], circular: bool = True
 ) -> list[Hashable]:
@@ -125,7 +98,11 @@ def longest_common_order(
     if not common:
         return []
     positions = np.array([position[item] for item in common], dtype=np.int64)
-    start = int(first_longest_rotation(positions)) if circular else 0
+    start = 0
+    if circular:  # numba is imported by the first circular filter, not with this module
+        from homebench.methods.sector_law_kernels import first_longest_rotation
+
+        start = int(first_longest_rotation(positions))
     rotated = common[start:] + common[:start]
     chain = longest_increasing(np.roll(positions, -start).tolist())
     return sorted((rotated[i] for i in chain), key=position.__getitem__)

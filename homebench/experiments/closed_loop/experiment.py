@@ -27,6 +27,7 @@ from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
 from homebench.evaluation.code_version import code_version, module_version
+from homebench.evaluation.executors import preload_for
 from homebench.evaluation.jobs import JobOutcome, run_safely
 from homebench.evaluation.runner import run_parallel, write_run_metadata
 from homebench.experiments.closed_loop.config import ClosedLoopConfig
@@ -304,7 +305,10 @@ def run_closed_loop_experiment(
             job.result_path(run_dir).unlink(missing_ok=True)
     todo = [job for job in plan if read_json_record(job.result_path(run_dir), job.key) is None]
     n_jobs = jobs if jobs is not None else config.jobs
-    outcomes = run_parallel(run_closed_loop_job, todo, run_dir, n_jobs, "trials", show_progress)
+    preload = preload_for(entry.method for entry in config.methods)
+    outcomes = run_parallel(
+        run_closed_loop_job, todo, run_dir, n_jobs, "trials", show_progress, preload
+    )
     records = [r for r in read_records(plan, run_dir) if r is not None]
     summary = write_tables(records, config, run_dir / TABLES_DIR)
     failures = tuple(outcome for outcome in outcomes if outcome.error)

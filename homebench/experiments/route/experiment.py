@@ -41,6 +41,7 @@ import pandas as pd
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
 from homebench.evaluation.code_version import code_version
+from homebench.evaluation.executors import preload_for
 from homebench.evaluation.jobs import JobOutcome, run_safely
 from homebench.evaluation.plan import COMPASS_METHOD
 from homebench.evaluation.runner import run_parallel, write_run_metadata
@@ -443,7 +444,8 @@ def run_route_experiment(
             job.result_path(run_dir).unlink(missing_ok=True)
     todo = [job for job in plan if read_json_record(job.result_path(run_dir), job.key) is None]
     n_jobs = jobs if jobs is not None else config.jobs
-    outcomes = run_parallel(run_route_job, todo, run_dir, n_jobs, "routes", show_progress)
+    preload = preload_for(entry.method for entry in config.methods)
+    outcomes = run_parallel(run_route_job, todo, run_dir, n_jobs, "routes", show_progress, preload)
     records = [read_json_record(job.result_path(run_dir), job.key) for job in plan]
     table = route_table([r for r in records if r is not None], config.success_radius_m)
     table_path = run_dir / TABLE_PATH
