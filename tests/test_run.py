@@ -107,6 +107,35 @@ def test_a_run_reads_its_results_and_compares_its_methods_once(
     assert calls == {"load_pairs": 1, "comparison_table": 1}
 
 
+def test_a_fresh_run_starts_its_worker_server_before_planning_a_finished_one_none(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The server imports while the run plans (its data exist: nothing to generate); a rerun
+    whose jobs are all done starts no server at all."""
+    from homebench.evaluation import isolation, runner
+
+    events: list[str] = []
+    start_server, make_plan = isolation.WorkerPool.start_server, runner.make_plan
+
+    def starting(pool: isolation.WorkerPool) -> None:
+        events.append("start")
+        start_server(pool)
+
+    def planning(*args: object, **kwargs: object) -> object:
+        events.append("plan")
+        return make_plan(*args, **kwargs)
+
+    monkeypatch.setattr(isolation.WorkerPool, "start_server", starting)
+    monkeypatch.setattr(runner, "make_plan", planning)
+    config = _config(tmp_path, arena_manifest)
+    assert _run(str(config))[0] == 0
+    assert events[:2] == ["start", "plan"]
+    events.clear()
+    code, out, _ = _run(str(config))
+    assert code == 0 and "0 job(s) computed, 4 reused" in out
+    assert events == ["plan"]
+
+
 def test_tables_are_equal_across_workers_backends_and_shards(
     tmp_path: Path, arena_manifest: Path
 ) -> None:

@@ -43,7 +43,7 @@ from homebench.evaluation.isolation import Crash, Limits
 from homebench.evaluation.jobs import JobOutcome, read_result, run_describe_job, run_home_job
 from homebench.evaluation.plan import DescribeJob, HomeJob, Plan, make_plan
 from homebench.evaluation.provenance import resolve_config, run_sections, write_run_metadata
-from homebench.evaluation.results import write_plan_index
+from homebench.evaluation.results import PLAN_FILE, write_plan_index
 from homebench.evaluation.run_folder import check_owner, claim_run_folder, lock_run_folder
 from homebench.evaluation.sources import Source, prepare_sources
 
@@ -138,11 +138,14 @@ def run_plan(
     ``key=value`` settings the config was loaded with, recorded in ``environment.json``."""
     run_dir = Path(config.output)
     preload = preload_for(entry.method for entry in config.methods)
+    fresh = not (run_dir / PLAN_FILE).exists()  # no earlier run here: it will have jobs
     with (
         lock_run_folder(run_dir, shared=execution.shard is not None),
         open_executor(execution, preload) as executor,
     ):
-        # worlds to generate: the worker server imports meanwhile
+        # the worker server imports while this process plans a fresh run or generates worlds
+        if fresh:
+            executor.start()
         sources: dict[tuple[str, SweptWorld], Source] = prepare_sources(
             config, execution.jobs, on_generate=executor.start
         )
