@@ -186,12 +186,14 @@ def select_currents(config: RunConfig, grid: Grid, goal: tuple[int, int]) -> lis
             config.currents.max_distance,
         )
     )
-    chosen = []
-    for i, j in grid.indices():
-        distance = float(np.hypot(*(grid.position(i, j) - goal_xy)))
-        if (i, j) != goal and low - 1e-9 <= distance <= high + 1e-9:
-            chosen.append((i, j))
-    return chosen
+    indices = list(grid.indices())
+    i, j = np.array(indices).T
+    distances = np.hypot(*(grid.position(i, j) - goal_xy).T).tolist()  # (n,), metres
+    return [
+        index
+        for index, distance in zip(indices, distances, strict=True)
+        if index != goal and low - 1e-9 <= distance <= high + 1e-9
+    ]
 
 
 def rotation_of(config: RunConfig, source: Source, i: int, j: int) -> float:
