@@ -78,7 +78,10 @@ class KltSector:
     name: ClassVar[str] = "klt-sector"
     image_kind: ClassVar[ImageKind] = "unfolded"
     uses_route: ClassVar[bool] = True
-    preload_modules: ClassVar[tuple[str, ...]] = ("homebench.methods.sector_law_kernels",)
+    preload_modules: ClassVar[tuple[str, ...]] = (
+        "homebench.methods.sector_law_kernels",
+        "homebench.methods.jit_setup",
+    )
 
     route_step: float = param(
         0.5,

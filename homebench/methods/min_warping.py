@@ -342,7 +342,10 @@ class MinWarping:
 
     name: ClassVar[str] = "min-warping"
     image_kind: ClassVar[ImageKind] = "unfolded"
-    preload_modules: ClassVar[tuple[str, ...]] = ("homebench.methods.min_warping_kernels",)
+    preload_modules: ClassVar[tuple[str, ...]] = (
+        "homebench.methods.min_warping_kernels",
+        "homebench.methods.jit_setup",
+    )
 
     n_columns: int = param(96, "Search steps of alpha and psi over a full turn (Möller: 96).")
     columns_per_step: int = param(
