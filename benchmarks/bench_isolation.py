@@ -2,8 +2,11 @@
 
 Every call runs a job that does (almost) nothing with a payload the size of a home job's, so the
 time per call is the cost of handing a job over and its outcome back. Workers are warm (started
-and importing before the clock runs); start-up and shut-down are measured apart. Prints the
-load average, since the numbers mean little on a busy machine.
+and importing before the clock runs); start-up and shut-down are measured apart, and so is a
+new worker's first call of a numba kernel (CPU), with the kernels alone in the server's
+preload and with numba set up there too (:mod:`homebench.methods.jit_setup`, as
+:func:`~homebench.evaluation.executors.preload_for` adds it). Prints the load average, since
+the numbers mean little on a busy machine.
 
     python benchmarks/bench_isolation.py [--workers 2] [--calls 400] [--dask]
 """
@@ -17,8 +20,10 @@ from collections.abc import Callable
 
 from joblib import Parallel, delayed
 
-from homebench.evaluation.executors import PRELOAD
+from homebench.evaluation.executors import PRELOAD, preload_for
 from homebench.evaluation.isolation import Limits, WorkerPool, run_isolated
+
+KERNELS = "homebench.methods.sector_law_kernels"
 
 PAYLOAD = bytes(20_000)  # a pickled home job of a 10 x 17 grid is about this size
 
@@ -26,6 +31,17 @@ PAYLOAD = bytes(20_000)  # a pickled home job of a 10 x 17 grid is about this si
 def job(item: int, payload: bytes) -> int:
     """The job: nothing but taking its payload and returning a small outcome."""
     return item + len(payload)
+
+
+def first_kernel_call(_: int) -> float:
+    """CPU seconds of a worker's first call of a numba kernel (the sector law's)."""
+    import numpy as np
+
+    from homebench.methods.sector_law_kernels import first_longest_rotation
+
+    start = time.process_time()
+    first_longest_rotation(np.arange(4, dtype=np.int64))
+    return time.process_time() - start
 
 
 def _per_call(run: Callable[[int], None], calls: int) -> float:
@@ -62,6 +78,13 @@ def _local(workers: int, calls: int) -> dict[str, float]:
         results[f"isolated pool shut-down, {size} worker(s) [s, once]"] = (
             time.perf_counter() - closing
         )
+    for how, preload in (
+        ("kernels only", (*PRELOAD, KERNELS)),
+        ("numba set up", preload_for(["klt-sector"])),
+    ):
+        with WorkerPool(workers, Limits(), preload) as pool:
+            cpu = [seconds for _, seconds in pool.map_unordered(first_kernel_call, range(workers))]
+        results[f"first numba call per worker, {how} [s, once]"] = max(cpu)
     return results
 
 
