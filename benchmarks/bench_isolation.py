@@ -20,6 +20,7 @@ from collections.abc import Callable
 
 from joblib import Parallel, delayed
 
+from homebench.config import MethodEntry
 from homebench.evaluation.executors import PRELOAD, preload_for
 from homebench.evaluation.isolation import Limits, WorkerPool, run_isolated
 
@@ -80,7 +81,7 @@ def _local(workers: int, calls: int) -> dict[str, float]:
         )
     for how, preload in (
         ("kernels only", (*PRELOAD, KERNELS)),
-        ("numba set up", preload_for(["klt-sector"])),
+        ("numba set up", preload_for([MethodEntry(method="klt-sector")])),
     ):
         with WorkerPool(workers, Limits(), preload) as pool:
             cpu = [seconds for _, seconds in pool.map_unordered(first_kernel_call, range(workers))]

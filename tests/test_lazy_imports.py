@@ -7,6 +7,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+from homebench.config import MethodEntry
 from homebench.evaluation.executors import PRELOAD, preload_for
 from homebench.methods import registry
 
@@ -66,9 +67,13 @@ def test_methods_that_run_numba_kernels_name_them_in_preload_modules() -> None:
         assert (numba == "True") == declares, f"{name}: numba imported {numba}"
 
 
+def _entries(*names: str) -> list[MethodEntry]:
+    return [MethodEntry(method=name) for name in names]
+
+
 def test_the_preload_of_a_run_adds_only_its_methods_kernels() -> None:
-    assert preload_for(["warping", "sift", "warping"]) == PRELOAD
-    assert preload_for(["min-warping", "klt-sector", "min-warping"]) == (
+    assert preload_for(_entries("warping", "sift", "warping")) == PRELOAD
+    assert preload_for(_entries("min-warping", "klt-sector", "min-warping")) == (
         *PRELOAD,
         "homebench.methods.min_warping_kernels",
         "homebench.methods.jit_setup",
@@ -80,7 +85,9 @@ def test_the_preloaded_kernels_import_numba() -> None:
     code = (
         "import importlib, sys\n"
         "from homebench.evaluation.executors import preload_for\n"
-        "for module in preload_for(['min-warping', 'klt-sector']):\n"
+        "from homebench.config import MethodEntry\n"
+        "entries = [MethodEntry(method=m) for m in ('min-warping', 'klt-sector')]\n"
+        "for module in preload_for(entries):\n"
         "    importlib.import_module(module)\n"
         "print('numba' in sys.modules)\n"
     )

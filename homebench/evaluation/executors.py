@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, Protocol
 
+from homebench.config import MethodEntry
 from homebench.errors import ConfigError
 from homebench.evaluation.isolation import (
     Crash,
@@ -32,12 +33,13 @@ from homebench.methods import registry
 PRELOAD = ("homebench.evaluation.jobs", "homebench.methods")
 
 
-def preload_for(methods: Iterable[str]) -> tuple[str, ...]:
-    """What the workers of jobs by the registered ``methods`` import first: :data:`PRELOAD`
+def preload_for(entries: Iterable[MethodEntry]) -> tuple[str, ...]:
+    """What the workers of jobs by a config's method ``entries`` import first: :data:`PRELOAD`
     and each method's ``preload_modules``, the compiled kernels its module imports only when
     they first run (a process that lists or checks methods then never imports numba, and the
-    workers of a run that needs it share one import)."""
-    extra = (m for name in methods for m in getattr(registry.get(name), "preload_modules", ()))
+    workers of a run that needs it share one import and set-up)."""
+    classes = (registry.get(entry.method) for entry in entries)
+    extra = (module for cls in classes for module in getattr(cls, "preload_modules", ()))
     return tuple(dict.fromkeys((*PRELOAD, *extra)))
 
 

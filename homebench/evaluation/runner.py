@@ -137,7 +137,7 @@ def run_plan(
     determines a result) or ``force`` (every job is recomputed). ``overrides``: the
     ``key=value`` settings the config was loaded with, recorded in ``environment.json``."""
     run_dir = Path(config.output)
-    preload = preload_for(entry.method for entry in config.methods)
+    preload = preload_for(config.methods)
     fresh = not (run_dir / PLAN_FILE).exists()  # no earlier run here: it will have jobs
     with (
         lock_run_folder(run_dir, shared=execution.shard is not None),

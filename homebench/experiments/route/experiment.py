@@ -444,7 +444,7 @@ def run_route_experiment(
             job.result_path(run_dir).unlink(missing_ok=True)
     todo = [job for job in plan if read_json_record(job.result_path(run_dir), job.key) is None]
     n_jobs = jobs if jobs is not None else config.jobs
-    preload = preload_for(entry.method for entry in config.methods)
+    preload = preload_for(config.methods)
     outcomes = run_parallel(run_route_job, todo, run_dir, n_jobs, "routes", show_progress, preload)
     records = [read_json_record(job.result_path(run_dir), job.key) for job in plan]
     table = route_table([r for r in records if r is not None], config.success_radius_m)
