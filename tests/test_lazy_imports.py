@@ -14,6 +14,15 @@ from homebench.methods import registry
 BUILT_IN = sorted(registry.available())
 
 
+def _python(code: str, timeout_s: float = 120.0) -> str:
+    """What ``code`` prints when run by a fresh interpreter (which must succeed)."""
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout_s, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
 def test_listing_and_checking_methods_does_not_import_numba() -> None:
     code = (
         "import sys\n"
@@ -25,11 +34,8 @@ def test_listing_and_checking_methods_does_not_import_numba() -> None:
         "assert 'min-warping' in result.output and 'klt-sector' in result.output\n"
         "print(sorted(m for m in sys.modules if m.partition('.')[0] == 'numba')[:3])\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
-    )
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "[]", "numba was imported: " + done.stdout
+    imported = _python(code)
+    assert imported == "[]", f"numba was imported: {imported}"
 
 
 def test_methods_that_run_numba_kernels_name_them_in_preload_modules() -> None:
@@ -56,11 +62,7 @@ def test_methods_that_run_numba_kernels_name_them_in_preload_modules() -> None:
         "    method.home(current, goal)\n"
         "    print(name, 'numba' in sys.modules)\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False
-    )
-    assert done.returncode == 0, done.stderr
-    imported = dict(line.split() for line in done.stdout.splitlines())
+    imported = dict(line.split() for line in _python(code, 300.0).splitlines())
     assert set(imported) == set(BUILT_IN)
     for name, numba in imported.items():
         declares = bool(getattr(registry.get(name), "preload_modules", ()))
@@ -91,8 +93,4 @@ def test_the_preloaded_kernels_import_numba() -> None:
         "    importlib.import_module(module)\n"
         "print('numba' in sys.modules)\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
-    )
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "True"
+    assert _python(code) == "True"
