@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -18,6 +19,16 @@ def _session_data_dir(tmp_path_factory: pytest.TempPathFactory) -> Iterator[None
     patcher.setenv("HOMEBENCH_DATA", str(tmp_path_factory.mktemp("homebench-data")))
     yield
     patcher.undo()
+
+
+@pytest.fixture(autouse=True)
+def _close_figures() -> Iterator[None]:
+    """Close the figures a test left open (matplotlib keeps every pyplot figure until then),
+    without importing pyplot into tests that never drew."""
+    yield
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    if pyplot is not None:
+        pyplot.close("all")
 
 
 ARENA_GRID = {"shape": [4, 5], "spacing": 0.3, "origin": [-0.45, -0.6]}
