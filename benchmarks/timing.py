@@ -46,5 +46,8 @@ def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, f
 
 
 def load() -> str:
-    """The 1-, 5- and 15-minute load averages, for a benchmark's report."""
-    return "load average " + " ".join(f"{x:.2f}" for x in os.getloadavg())
+    """The 1-, 5- and 15-minute load averages and how this process allocates, for a
+    benchmark's report."""
+    averages = " ".join(f"{x:.2f}" for x in os.getloadavg())
+    allocator = "as the job workers" if AS_IN_WORKERS else "not as the job workers (no glibc)"
+    return f"load average {averages}; allocator {allocator}"
