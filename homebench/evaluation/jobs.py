@@ -34,6 +34,7 @@ from homebench.evaluation.metrics import angular_errors
 from homebench.evaluation.plan import (
     DescribeJob,
     HomeJob,
+    ImageInputs,
     ImageTask,
     described,
     neighbour_positions,
@@ -121,7 +122,7 @@ def _describe(job: DescribeJob, run_dir: Path) -> None:
     method = job.method.create()
     failed = []
     for task in job.images:
-        path, key = _feature_file(task, run_dir, job.method.key)
+        path, key = _feature_file(task.inputs, run_dir, job.method.key)
         if _has_features(path, key):
             continue
         try:
@@ -141,16 +142,16 @@ FEATURE_FILES_REMEMBERED = 16384
 
 
 @functools.lru_cache(maxsize=FEATURE_FILES_REMEMBERED)
-def _feature_file(task: ImageTask, run_dir: Path, method_key: str) -> tuple[Path, str]:
-    """The path and key of ``task``'s feature file in ``run_dir`` by the method of key
-    ``method_key``, remembered: a run's home jobs ask for every current view's once per goal,
-    and hashing the key and joining the path each time cost a warping pair a tenth of its
-    time."""
-    return task.feature_path(run_dir, method_key), task.feature_key(method_key)
+def _feature_file(image: ImageInputs, run_dir: Path, method_key: str) -> tuple[Path, str]:
+    """The path and key of the feature file of the image of ``image`` inputs in ``run_dir`` by
+    the method of key ``method_key``, remembered: a run's home jobs ask for every current
+    view's once per goal, and hashing the key and joining the path each time cost a warping
+    pair a tenth of its time."""
+    return image.feature_path(run_dir, method_key), image.feature_key(method_key)
 
 
 def _features(task: ImageTask, run_dir: Path, job: HomeJob) -> StoredFeatures:
-    return load_features(*_feature_file(task, run_dir, job.method.key))
+    return load_features(*_feature_file(task.inputs, run_dir, job.method.key))
 
 
 class _GridViews:

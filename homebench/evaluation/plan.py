@@ -28,7 +28,7 @@ import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -79,6 +79,28 @@ class MethodSpec:
         return registry.create(self.method, **dict(self.params))
 
 
+class ImageInputs(NamedTuple):
+    """What determines an image as a method sees it (part of every key): database identity,
+    grid position, rotation (radians, ccw) and content. A tuple of strings and numbers, so it
+    hashes and compares at C speed, where an :class:`ImageTask` hashes its whole source."""
+
+    identity: str
+    i: int
+    j: int
+    rotation: float
+    content: str
+
+    def feature_key(self, method_key: str) -> str:
+        """The key of this image's features by the method of key ``method_key``."""
+        return stable_hash({"method": method_key, "image": self})
+
+    def feature_path(self, run_dir: Path, method_key: str) -> Path:
+        """The file of this image's features by the method of key ``method_key``."""
+        rotation = f"_r{round(math.degrees(self.rotation) * 1000)}" if self.rotation else ""
+        name = f"{self.i}_{self.j}{rotation}.npz"
+        return run_dir / "features" / method_key / self.identity / name
+
+
 @dataclass(frozen=True)
 class ImageTask:
     """One image as a method sees it: database, grid position, rotation (radians, ccw), and
@@ -91,19 +113,9 @@ class ImageTask:
     content: str = ""
 
     @property
-    def inputs(self) -> tuple[str, int, int, float, str]:
+    def inputs(self) -> ImageInputs:
         """What determines this image as the method sees it (part of every key)."""
-        return (self.source.identity, self.i, self.j, self.rotation, self.content)
-
-    def feature_key(self, method_key: str) -> str:
-        """The key of this image's features by the method of key ``method_key``."""
-        return stable_hash({"method": method_key, "image": self.inputs})
-
-    def feature_path(self, run_dir: Path, method_key: str) -> Path:
-        """The file of this image's features by the method of key ``method_key``."""
-        rotation = f"_r{round(math.degrees(self.rotation) * 1000)}" if self.rotation else ""
-        name = f"{self.i}_{self.j}{rotation}.npz"
-        return run_dir / "features" / method_key / self.source.identity / name
+        return ImageInputs(self.source.identity, self.i, self.j, self.rotation, self.content)
 
 
 @dataclass(frozen=True)
