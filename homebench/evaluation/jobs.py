@@ -17,7 +17,7 @@ then the compass's turn plus the method's own rotation, and ``ae`` the error of 
 from __future__ import annotations
 
 import functools
-import json
+import math
 import time
 import traceback
 from dataclasses import dataclass, replace
@@ -26,6 +26,7 @@ from typing import Any
 
 import cv2
 import numpy as np
+import orjson
 
 from homebench.errors import DataError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
@@ -40,7 +41,7 @@ from homebench.evaluation.plan import (
     neighbour_positions,
 )
 from homebench.evaluation.sources import load_view, open_source
-from homebench.fileio import read_json_record, write_text_atomic
+from homebench.fileio import read_json_record, write_bytes_atomic
 from homebench.geometry import home_direction, world_to_robot_xy
 from homebench.methods.base import HomingEstimate
 from homebench.methods.visual_compass import (
@@ -306,15 +307,18 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     truths = home_direction(current_xy, goal_xy, np.asarray(headings, dtype=np.float64))
     distances = np.hypot(*(goal_xy - current_xy).T)
     rows, estimates_world = [], np.full(len(job.currents), np.nan)
-    for k, task in enumerate(job.currents):
-        row = {
-            "current_i": task.i,
-            "current_j": task.j,
-            "rotation": task.rotation,
-            "heading": headings[k],
-            "truth": float(truths[k]),
-            "distance_m": float(distances[k]),
-        }
+    for k, (task, truth, distance) in enumerate(
+        zip(job.currents, truths.tolist(), distances.tolist(), strict=True)
+    ):
+        row = dict.fromkeys(ROW_COLUMNS)  # in the columns' order; a failed pair keeps Nones
+        row.update(
+            current_i=task.i,
+            current_j=task.j,
+            rotation=task.rotation,
+            heading=headings[k],
+            truth=truth,
+            distance_m=distance,
+        )
         try:
             estimate, measured = _estimate(job, run_dir, task, headings[k], parts)
         except Exception as error:  # one failed pair; the job's other pairs go on
@@ -323,20 +327,19 @@ def _home(job: HomeJob, run_dir: Path) -> None:
             angle = None if estimate.angle is None else float(estimate.angle)
             if angle is not None:
                 estimates_world[k] = headings[k] + angle
-            row |= measured | {
-                "estimate": angle,
-                "estimate_world": None if angle is None else float(estimates_world[k]),
-                "rotation_estimate": estimate.rotation,
-                "n_landmarks": int(estimate.n_landmarks),
-                "score": estimate.score,
-            }
+            row.update(
+                measured,
+                estimate=angle,
+                estimate_world=None if angle is None else float(estimates_world[k]),
+                rotation_estimate=estimate.rotation,
+                n_landmarks=int(estimate.n_landmarks),
+                score=estimate.score,
+            )
         rows.append(row)
-    errors = angular_errors(estimates_world, current_xy, goal_xy)
-    rows = [
-        {column: row.get(column) for column in ROW_COLUMNS}
-        | ({"ae": _none_if_nan(ae)} if "estimate" in row else {})
-        for row, ae in zip(rows, errors, strict=True)
-    ]
+    errors = angular_errors(estimates_world, current_xy, goal_xy).tolist()
+    for row, ae in zip(rows, errors, strict=True):
+        if row["error"] is None:
+            row["ae"] = None if math.isnan(ae) else ae
     record = {
         "format": RESULT_FORMAT,
         "key": job.key,
@@ -362,14 +365,9 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     }
     path = job.result_path(run_dir)
     path.parent.mkdir(parents=True, exist_ok=True)
-    # no indent: json's C encoder (the pure-Python one, used with indent, is a tenth of a
-    # warping run's CPU)
-    write_text_atomic(path, json.dumps(record, default=_json_default))
-
-
-def _none_if_nan(value: Any) -> float | None:
-    value = float(np.asarray(value))
-    return None if np.isnan(value) else value
+    # orjson: 0.4 us a row where the stdlib takes 5 (a warping pair takes about 250);
+    # NaN is written as null, as JSON has no NaN
+    write_bytes_atomic(path, orjson.dumps(record, default=_json_default))
 
 
 def _json_default(value: Any) -> Any:

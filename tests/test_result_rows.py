@@ -1,0 +1,83 @@
+"""A home job's result file: one row per current view, in the columns' order, against the
+arena's ground truth; a pair that fails, or has no estimate, or answers NaN, keeps its row,
+and the file is strict JSON (no NaN tokens) that other tools can read."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import arena_config
+
+from homebench.config import RunConfig
+from homebench.evaluation.jobs import ROW_COLUMNS, run_describe_job, run_home_job
+from homebench.evaluation.plan import make_plan
+from homebench.evaluation.sources import open_source, prepare_sources
+from homebench.geometry import angle_diff
+from homebench.methods.base import HomingEstimate
+from homebench.methods.warping import Warping
+
+ANGLE = 0.25  # the stub's answer in the current robot frame (radians)
+
+
+def _refuse_constant(name: str) -> float:
+    raise ValueError(f"not strict JSON: {name}")
+
+
+def test_rows_hold_each_pairs_answer_and_truth_and_the_file_is_strict_json(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    config = RunConfig.model_validate(
+        arena_config(tmp_path, arena_manifest, goals=[[1, 2]], methods=[{"method": "warping"}])
+    )
+    plan = make_plan(config, prepare_sources(config, 1), tmp_path / "config.yaml")
+    run_dir = tmp_path / "run"
+    for job in plan.describe:
+        assert run_describe_job(job, run_dir).error is None
+    (job,) = plan.home
+    currents = [(task.i, task.j) for task in job.currents]
+    failing, undecided, nan_score = currents[0], currents[1], currents[2]
+    answers = iter(currents)
+
+    def stub(self, current, goal, **extra):  # pairs come in the job's order
+        here = next(answers)
+        if here == failing:
+            raise RuntimeError("stub failure")
+        if here == undecided:
+            return HomingEstimate.none(n_landmarks=2)
+        score = math.nan if here == nan_score else np.float32(0.5)
+        return HomingEstimate(ANGLE, rotation=np.float64(0.125), n_landmarks=7, score=score)
+
+    monkeypatch.setattr(Warping, "home", stub)
+    assert run_home_job(job, run_dir).error is None
+
+    text = job.result_path(run_dir).read_text(encoding="utf-8")
+    rows = json.loads(text, parse_constant=_refuse_constant)["rows"]
+    assert [(row["current_i"], row["current_j"]) for row in rows] == currents
+    assert all(list(row) == list(ROW_COLUMNS) for row in rows)
+    database = open_source(job.goal.source)
+    goal_xy = database.grid.position(job.goal.i, job.goal.j)
+    for row in rows:
+        here = (row["current_i"], row["current_j"])
+        offset = goal_xy - database.grid.position(*here)
+        truth = math.atan2(offset[1], offset[0]) - database.heading(*here)
+        assert float(angle_diff(row["truth"], truth)) == pytest.approx(0.0, abs=1e-12)
+        assert row["distance_m"] == pytest.approx(math.hypot(*offset), abs=1e-12)
+        assert row["heading"] == pytest.approx(database.heading(*here), abs=1e-12)
+        if here == failing:
+            assert "stub failure" in row["error"]
+            assert row["estimate"] is row["ae"] is row["home_ms"] is None
+            continue
+        assert row["error"] is None and row["home_ms"] >= 0.0
+        if here == undecided:
+            assert row["estimate"] is row["ae"] is row["estimate_world"] is None
+            assert row["n_landmarks"] == 2
+            continue
+        assert row["estimate"] == ANGLE and row["rotation_estimate"] == 0.125
+        assert row["estimate_world"] == pytest.approx(row["heading"] + ANGLE, abs=1e-12)
+        assert row["ae"] == pytest.approx(abs(float(angle_diff(ANGLE, row["truth"]))), abs=1e-9)
+        assert row["n_landmarks"] == 7
+        assert row["score"] == (None if here == nan_score else 0.5)
