@@ -15,6 +15,7 @@ from conftest import arena_config, run_config
 
 from homebench.errors import DataError
 from homebench.evaluation.features_io import load_features, save_features
+from homebench.evaluation.jobs import _has_features
 from homebench.geometry import PanoramaGeometry
 from homebench.hashing import stable_hash
 from homebench.methods.klt_sector import KltFeatures
@@ -115,6 +116,53 @@ def test_unsafe_corrupt_or_foreign_files_do_not_load(tmp_path: Path) -> None:
         with pytest.raises(DataError, match=path.name):
             load_features(path, "k")
     assert not marker.exists()
+
+
+def test_features_read_before_come_from_memory_and_a_check_reads_the_file(
+    tmp_path: Path,
+) -> None:
+    """A process trusts features it read under a key (a run's home jobs read each current's
+    once per goal, without a system call); ``from_disk`` (describe's check) reads the file."""
+    path = tmp_path / "f.npz"
+    save_features(path, "key1", np.arange(3.0), describe_ms=1.0)
+    first = load_features(path, "key1")
+    path.unlink()
+    assert load_features(path, "key1").features is first.features
+    with pytest.raises(DataError, match="missing"):
+        load_features(path, "key1", from_disk=True)
+    with pytest.raises(DataError, match="missing"):  # what the check found is remembered
+        load_features(path, "key1")
+
+
+def test_describe_checks_the_file_not_what_the_process_remembers(tmp_path: Path) -> None:
+    """A worker that read a file keeps it in memory; if the file is gone or broken by the next
+    run, that worker's describe job still writes it again (other workers read the file)."""
+    path = tmp_path / "f.npz"
+    save_features(path, "key", np.zeros(2), describe_ms=1.0)
+    assert _has_features(path, "key")
+    path.write_bytes(b"broken")
+    assert not _has_features(path, "key")
+
+
+def test_a_file_written_again_under_another_key_is_read_again(tmp_path: Path) -> None:
+    path = tmp_path / "f.npz"
+    save_features(path, "old inputs", np.zeros(2), describe_ms=1.0)
+    assert load_features(path, "old inputs").describe_ms == 1.0
+    with pytest.raises(DataError, match="other inputs"):
+        load_features(path, "new inputs")
+    save_features(path, "new inputs", np.ones(2), describe_ms=2.0)
+    loaded = load_features(path, "new inputs")
+    assert loaded.describe_ms == 2.0 and np.array_equal(loaded.features, np.ones(2))
+    with pytest.raises(DataError, match="other inputs"):
+        load_features(path, "old inputs")
+
+
+def test_a_structure_that_is_not_an_object_is_refused_every_time(tmp_path: Path) -> None:
+    path = tmp_path / "f.npz"
+    np.savez(path, structure=np.frombuffer(b'["key"]', dtype=np.uint8))
+    for _ in range(2):
+        with pytest.raises(DataError, match="not a JSON object"):
+            load_features(path, "key")
 
 
 def test_a_planted_pickle_never_runs_and_a_corrupt_file_is_recomputed(

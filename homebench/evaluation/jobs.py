@@ -111,7 +111,7 @@ def _has_features(path: Path, key: str) -> bool:
     """Whether ``path`` holds usable features of ``key`` (a missing, corrupt or stale file,
     made from other inputs, does not: its image is described again)."""
     try:
-        load_features(path, key)
+        load_features(path, key, from_disk=True)
     except DataError:
         return False
     return True
