@@ -71,9 +71,10 @@ def installed_distributions() -> dict[str, str]:
     """Every installed distribution's version, by name."""
     found = {}
     for dist in distributions():
-        name = dist.metadata["Name"]
+        metadata = dist.metadata  # parsed on every access: once per distribution
+        name = metadata["Name"]
         if name:
-            found.setdefault(name, dist.version)
+            found.setdefault(name, metadata["Version"])
     return dict(sorted(found.items(), key=lambda item: item[0].lower()))
 
 
