@@ -172,8 +172,12 @@ class _GridViews:
         self.source = job.currents[0].source
         self.grid = self.source.grid
         self.cache: dict[tuple[int, int, float, bool], Any] = {}
-        currents = set(job.currents)
-        self.stored = {(t.i, t.j, t.rotation): t for t in described(job) if t in currents}
+
+    @functools.cached_property  # built when a method first asks for a view beyond the pair
+    def stored(self) -> dict[tuple[int, int, float], ImageTask]:
+        """The job's described current views, by (i, j, rotation)."""
+        currents = {t.inputs for t in self.job.currents}
+        return {(t.i, t.j, t.rotation): t for t in described(self.job) if t.inputs in currents}
 
     def _describe(self, i: int, j: int, rotation: float = 0.0, route: bool = False) -> Any:
         """Features of a view: stored, or described (a route view's by the method's
