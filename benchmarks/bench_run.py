@@ -10,8 +10,11 @@ the jobs run (one thread per numeric library, their allocator settings, forked f
 server); then fresh runs of the same plan (``run_plan`` in a new folder, workers included:
 the CPU of this process and its waited-for children per pair) with --jobs 1 and --jobs 2.
 Ratios: the run's CPU per pair over the floor's (target 1.15), and --jobs 1 wall time over
---jobs 2's (target 1.8 on an idle 2-core machine). The load average before and after each
-line says how busy the machine was.
+--jobs 2's (target 1.8 on an idle 2-core machine). A run also pays costs that do not grow with
+its pairs (the worker server's imports, planning, the run's records, opening the databases in
+each worker): "fixed s" is the CPU of a one-goal run of the method beyond its own floor, and
+"marginal" the run's CPU per pair without it over the floor's, at --jobs 1 / --jobs 2. The
+load average before and after each line says how busy the machine was.
 """
 
 from __future__ import annotations
@@ -102,6 +105,16 @@ def _run(config: RunConfig, jobs: int) -> tuple[float, float]:
     return wall, cpu
 
 
+def _measure(folder: Path, method: str, goals: int) -> tuple[float, int, dict[int, tuple]]:
+    """The floor's CPU seconds and pair count of a plan of ``goals`` goals, and the wall and
+    CPU seconds of fresh runs of it with --jobs 1 and 2."""
+    config = _config(folder / "plan", method, goals)
+    plan = make_plan(config, prepare_sources(config, 2), Path("bench"))
+    floor, pairs = _floor_in_worker(plan.home)
+    runs = {n: _run(_config(folder / f"jobs{n}", method, goals), n) for n in (1, 2)}
+    return floor, pairs, runs
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--goals", type=int, default=4, help="goals (all currents each)")
@@ -110,23 +123,23 @@ def main() -> None:
     ensure_generated(DATABASE, jobs=2)
     print(
         f"{'method':<12} {'pairs':>5} {'floor ms':>8} {'j1 ms':>7} {'ratio':>5} {'j2 ms':>7} "
-        f"{'ratio':>5} {'j1 s':>6} {'j2 s':>6} {'speed-up':>8}  load before/after"
+        f"{'ratio':>5} {'j1 s':>6} {'j2 s':>6} {'speed-up':>8} {'fixed s':>9} {'marginal':>9}"
+        "  load before/after"
     )
     for name in args.methods:
         load = os.getloadavg()[0]
         with tempfile.TemporaryDirectory() as folder:
-            config = _config(Path(folder) / "plan", name, args.goals)
-            plan = make_plan(config, prepare_sources(config, 2), Path("bench"))
-            floor, pairs = _floor_in_worker(plan.home)
-            runs = {}
-            for n in (1, 2):
-                runs[n] = _run(_config(Path(folder) / f"jobs{n}", name, args.goals), n)
+            floor, pairs, runs = _measure(Path(folder) / "all", name, args.goals)
+            one_floor, _, one_runs = _measure(Path(folder) / "one", name, 1)
         per_pair = {n: 1000.0 * cpu / pairs for n, (_, cpu) in runs.items()}
+        fixed = {n: cpu - one_floor for n, (_, cpu) in one_runs.items()}
+        marginal = {n: (runs[n][1] - fixed[n]) / floor for n in runs}
         floor_ms = 1000.0 * floor / pairs
         print(
             f"{name:<12} {pairs:>5} {floor_ms:>8.2f} {per_pair[1]:>7.2f} "
             f"{per_pair[1] / floor_ms:>5.2f} {per_pair[2]:>7.2f} {per_pair[2] / floor_ms:>5.2f} "
-            f"{runs[1][0]:>6.2f} {runs[2][0]:>6.2f} {runs[1][0] / runs[2][0]:>8.2f}  "
+            f"{runs[1][0]:>6.2f} {runs[2][0]:>6.2f} {runs[1][0] / runs[2][0]:>8.2f} "
+            f"{fixed[1]:>4.2f}/{fixed[2]:>4.2f} {marginal[1]:>4.2f}/{marginal[2]:>4.2f}  "
             f"{load:.2f}/{os.getloadavg()[0]:.2f}",
             flush=True,
         )
