@@ -40,6 +40,8 @@ from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
 
 ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
+#: Largest seed a sweep takes: the tables' ``seed`` column holds 64-bit integers.
+MAX_SWEPT_SEED = 2**63 - 1
 #: A swept world: (style, seed), each None when not swept.
 SweptWorld = tuple[str | None, int | None]
 
@@ -236,8 +238,11 @@ class RunConfig(_Strict):
     @field_validator("seeds")
     @classmethod
     def _seeds(cls, value: list[int]) -> list[int]:
-        if any(seed < 0 for seed in value) or len(set(value)) != len(value):
-            raise ValueError("seeds must be distinct and non-negative")
+        if any(not 0 <= seed <= MAX_SWEPT_SEED for seed in value) or len(set(value)) != len(value):
+            raise ValueError(
+                f"seeds must be distinct, non-negative and at most {MAX_SWEPT_SEED} (the tables "
+                "hold them as 64-bit integers)"
+            )
         return value
 
     @field_validator("styles")

@@ -61,6 +61,7 @@ def test_valid_config_loads(tmp_path: Path) -> None:
         ),
         ({"currents": {"min_distance": 2, "max_distance": 1}}, "max_distance must not be below"),
         ({"databases": {"a-1": "synth-original"}, "conditions": ["a-1"]}, "aliases may hold"),
+        ({"seeds": [1, 2**63]}, "seeds: seeds must be distinct, non-negative and at most"),
     ],
 )
 def test_invalid_configs_name_file_and_key(tmp_path: Path, changes: dict, message: str) -> None:
