@@ -10,7 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import arena_config
+from conftest import arena_config, run_config
+from plugins import install_plugin
 
 from homebench.config import RunConfig
 from homebench.evaluation.jobs import ROW_COLUMNS, run_describe_job, run_home_job
@@ -81,3 +82,16 @@ def test_rows_hold_each_pairs_answer_and_truth_and_the_file_is_strict_json(
         assert row["ae"] == pytest.approx(abs(float(angle_diff(ANGLE, row["truth"]))), abs=1e-9)
         assert row["n_landmarks"] == 7
         assert row["score"] == (None if here == nan_score else 0.5)
+
+
+def test_a_parameter_beyond_64_bits_is_written_exactly(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """orjson writes no integer beyond 64 bits; such a result file is written by the stdlib."""
+    plugin = install_plugin(tmp_path / "plugin", monkeypatch)
+    entry = {"method": plugin.method, "params": {"raise_goal": 2**70}}
+    result = run_config(tmp_path, arena_config(tmp_path, arena_manifest, methods=[entry]))
+    assert result.exit_code == 0, result.output
+    records = [json.loads(p.read_text()) for p in (tmp_path / "run" / "jobs").glob("*.json")]
+    assert records and all(record["params"] == {"raise_goal": 2**70} for record in records)
+    assert all(row["error"] is None for record in records for row in record["rows"])
