@@ -177,8 +177,8 @@ class _GridViews:
     @functools.cached_property  # built when a method first asks for a view beyond the pair
     def stored(self) -> dict[tuple[int, int, float], ImageTask]:
         """The job's described current views, by (i, j, rotation)."""
-        currents = {t.inputs for t in self.job.currents}
-        return {(t.i, t.j, t.rotation): t for t in described(self.job) if t.inputs in currents}
+        currents = set(self.job.currents)
+        return {(t.i, t.j, t.rotation): t for t in described(self.job) if t in currents}
 
     def _describe(self, i: int, j: int, rotation: float = 0.0, route: bool = False) -> Any:
         """Features of a view: stored, or described (a route view's by the method's

@@ -101,10 +101,12 @@ class ImageInputs(NamedTuple):
         return run_dir / "features" / method_key / self.identity / name
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ImageTask:
     """One image as a method sees it: database, grid position, rotation (radians, ccw), and
-    its content (see :func:`~homebench.evaluation.image_hashes.image_hashes`)."""
+    its content (see :func:`~homebench.evaluation.image_hashes.image_hashes`). Tasks are equal
+    when their inputs are, and hash by them: the source's identity names its images, and a
+    dataclass's own hash would walk the whole source (grid, geometry) on every call."""
 
     source: Source
     i: int
@@ -116,6 +118,12 @@ class ImageTask:
     def inputs(self) -> ImageInputs:
         """What determines this image as the method sees it (part of every key)."""
         return ImageInputs(self.source.identity, self.i, self.j, self.rotation, self.content)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, ImageTask) and self.inputs == other.inputs
+
+    def __hash__(self) -> int:
+        return hash(self.inputs)
 
 
 @dataclass(frozen=True)

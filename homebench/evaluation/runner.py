@@ -191,12 +191,11 @@ def _run_jobs(
             earlier.append(failure)
         else:
             todo.append(job)
-    # by the images' inputs: an ImageTask hashes its whole source on every call
-    needed = {(t.inputs, job.method.key) for job in todo for t in (job.goal, *job.currents)}
+    needed = {(t, job.method.key) for job in todo for t in (job.goal, *job.currents)}
     describe = [
         DescribeJob(job.method, images)
         for job in plan.describe
-        if (images := tuple(t for t in job.images if (t.inputs, job.method.key) in needed))
+        if (images := tuple(t for t in job.images if (t, job.method.key) in needed))
     ]
     failures, computed = [*earlier], 0
     described = executor.map(run_describe_job, describe, run_dir)
