@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import shutil
 import textwrap
+from dataclasses import replace
 from pathlib import Path
 
 import pandas as pd
@@ -13,7 +14,10 @@ import pytest
 from conftest import arena_config, run_config
 from plugins import install_plugin
 
+from homebench.config import RunConfig
 from homebench.evaluation.code_version import code_version, source_closure
+from homebench.evaluation.plan import ImageInputs, make_plan
+from homebench.evaluation.sources import prepare_sources
 from homebench.fileio import read_grey, write_png
 from homebench.methods import registry
 
@@ -104,3 +108,29 @@ def test_builtin_code_version_is_the_package_version_and_a_source_hash() -> None
     assert version == code_version(registry.get("warping"))
     assert version != code_version(registry.get("sift"))
     assert "homebench.methods.sift" not in source_closure("homebench.methods.warping")
+
+
+def test_image_tasks_are_equal_and_hash_alike_exactly_when_their_inputs_are(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """Planning and the runner's sets compare tasks by their inputs: a task of an equal source
+    loaded again is the same task; another position, rotation or content is not."""
+    config = RunConfig.model_validate(
+        arena_config(tmp_path, arena_manifest, goals=[[1, 2]], methods=[{"method": "warping"}])
+    )
+    (job,) = make_plan(config, prepare_sources(config, 1), tmp_path / "config.yaml").home
+    (again,) = make_plan(config, prepare_sources(config, 1), tmp_path / "config.yaml").home
+    task, same = job.currents[3], again.currents[3]
+    assert task.source is not same.source
+    assert task == same and hash(task) == hash(same) == hash(task.inputs)
+    assert task.inputs == ImageInputs(
+        task.source.identity, task.i, task.j, task.rotation, task.content
+    )
+    others = [
+        job.currents[4],
+        replace(task, rotation=0.5),
+        replace(task, content="another"),
+        replace(task, source=replace(task.source, identity="another")),
+    ]
+    assert all(task != other and task.inputs != other.inputs for other in others)
+    assert len({task, same, *others}) == 1 + len(others)
