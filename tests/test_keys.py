@@ -68,6 +68,10 @@ def _package(root: Path, files: dict[str, str]) -> None:
         path.write_text(textwrap.dedent(text))
 
 
+#: Modules imported in statements nested in functions, classes, handlers, loops and cases.
+NESTED = ("in_case", "in_else", "in_handler", "in_try", "in_with")
+
+
 def test_source_closure_follows_imports_within_the_package_only(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -82,10 +86,32 @@ def test_source_closure_follows_imports_within_the_package_only(
 
                 def run():
                     import toypkg.lazy
+
+                class Method:
+                    def home(self, kind):
+                        try:
+                            import toypkg.in_try
+                        except ImportError:
+                            from toypkg import in_handler
+                        finally:
+                            with open(kind) as f:
+                                import toypkg.in_with
+                        for _ in range(2):
+                            while kind:
+                                if kind:
+                                    pass
+                                else:
+                                    import toypkg.in_else
+                        match kind:
+                            case "a":
+                                import toypkg.in_case
+                        return [x for x in (lambda: __import__("toypkg.dynamic"),)]
             """,
             "toypkg/helper.py": "from . import base\n",
             "toypkg/base.py": "X = 1\n",
             "toypkg/lazy.py": "",
+            **{f"toypkg/{name}.py": "" for name in NESTED},
+            "toypkg/dynamic.py": "",
             "toypkg/sub/__init__.py": "",
             "toypkg/sub/deep.py": "thing = 2\n",
             "toypkg/unrelated.py": "import toypkg.method\n",
@@ -96,6 +122,7 @@ def test_source_closure_follows_imports_within_the_package_only(
     assert sorted(closure) == [
         "toypkg.base",
         "toypkg.helper",
+        *(f"toypkg.{name}" for name in NESTED),
         "toypkg.lazy",
         "toypkg.method",
         "toypkg.sub.deep",
