@@ -30,7 +30,7 @@ import cv2  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the arena renderer
 from synthetic_panorama import render  # noqa: E402
-from timing import cpu_and_wall, load  # noqa: E402
+from timing import cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.evaluation.grid_routes import grid_route  # noqa: E402
 from homebench.geometry import Grid, PanoramaGeometry, Pose  # noqa: E402
@@ -69,9 +69,8 @@ def run(width: int, steps: int, repeats: int) -> None:
         cv2.calcOpticalFlowPyrLK(features[1].image, goal.image, moved, None, **lk)
 
     survivors = track_route()
-    floor = cpu_and_wall(bare, repeats * 4)
     figures = {
-        "floor: bare LK forward + backward": floor,
+        "floor: bare LK forward + backward": cpu_and_wall(bare, repeats * 4),
         "describe (per view)": cpu_and_wall(lambda: method.describe(views[0]), repeats),
         "track step (per image pair)": cpu_and_wall(
             lambda: tracker.step(goal.image, tracks, features[1].image, replenish=False),
@@ -89,9 +88,7 @@ def run(width: int, steps: int, repeats: int) -> None:
         f"\n{width} x {geometry.height} panorama: {len(goal.corners)} corners, "
         f"{len(survivors)} survive {steps} steps of {100 * STEP:.0f} cm"
     )
-    print(f"  {'per call':34s} {'CPU ms':>8s} {'wall ms':>8s} {'/ floor':>8s}")
-    for label, (cpu, wall) in figures.items():
-        print(f"  {label:34s} {1000 * cpu:8.2f} {1000 * wall:8.2f} {cpu / floor[0]:8.2f}")
+    print_figures(figures, "floor: bare LK forward + backward")
 
 
 def job(width: int) -> None:

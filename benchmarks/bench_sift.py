@@ -1,11 +1,14 @@
 """Timing of the sift method on rendered raw 752 x 564 images, one thread.
 
-Prints ``describe`` time per raw image, ``home`` time per pair with cached features (P: with
-mismatch elimination, PN: without), and two speed-ups over references kept here, each checked to
-give the same answer: the triple solver against a per-triple Python loop (the same closed form,
-one triple at a time, then eq. 5's search over alpha-bar on a 0.01 deg grid), and the matcher
-against ``cv2.BFMatcher.knnMatch`` with the ratio test. Targets: ``home`` under 10 ms per pair
-with a few hundred matches, ``describe`` under 150 ms per image.
+Prints process CPU and wall time per call, each CPU time over a floor measured in the same
+process: ``describe`` per raw image against the bare OpenCV SIFT call it makes (same
+parameters and annulus mask), and ``home`` per pair with cached features (P: with mismatch
+elimination, PN: without) and the descriptor matching against ``cv2.BFMatcher.knnMatch`` with
+k = 2 (the matching alone is checked to give the same matches as the matcher with the ratio
+test). Then the triple solver against a per-triple Python loop kept here (the same closed
+form, one triple at a time, then eq. 5's search over alpha-bar on a 0.01 deg grid), checked to
+give the same answer. Targets: ``home`` under 10 ms per pair with a few hundred matches,
+``describe`` under 150 ms per image. The load average is printed before and after.
 
 Run: ``python benchmarks/bench_sift.py [--repeats N]``.
 """
@@ -22,13 +25,13 @@ import math  # noqa: E402
 
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
-from timing import per_call  # noqa: E402
+from timing import cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
 from homebench.data.synth.world import build_world  # noqa: E402
 from homebench.geometry import Pose, angle_diff, wrap_angle  # noqa: E402
 from homebench.methods.base import View  # noqa: E402
-from homebench.methods.sift import Sift, SiftFeatures  # noqa: E402
+from homebench.methods.sift import Sift, SiftFeatures, annulus_mask  # noqa: E402
 from homebench.methods.sift_matching import match_descriptors  # noqa: E402
 from homebench.methods.sift_solver import (  # noqa: E402
     choose_triples,
@@ -92,33 +95,62 @@ def bench_solver(theta: np.ndarray, theta_p: np.ndarray, max_triples: int, repea
 
     fast, slow = vectorised(), reference()
     agree = max(abs(float(angle_diff(f, s))) for f, s in zip(fast, slow, strict=True))
-    t_fast = per_call(vectorised, repeats)
-    t_slow = per_call(reference, 1)
-    print(
-        f"solver, {len(triples)} triples: vectorised {1e3 * t_fast:.2f} ms, per-triple loop + "
-        f"grid {1e3 * t_slow:.1f} ms, speed-up {t_slow / t_fast:.0f}x "
-        f"(alpha, psi agree to {math.degrees(agree):.3f} deg)"
-    )
+    loop = f"reference: per-triple loop + grid, {len(triples)} triples"
+    figures = {
+        loop: cpu_and_wall(reference, 1),
+        "solver (vectorised)": cpu_and_wall(vectorised, repeats),
+    }
+    print_figures(figures, loop)
+    speed_up = figures[loop][0] / figures["solver (vectorised)"][0]
+    print(f"  speed-up {speed_up:.0f}x; alpha and psi agree to {math.degrees(agree):.3f} deg")
 
 
-def bench_matching(current: SiftFeatures, goal: SiftFeatures, ratio: float, repeats: int) -> None:
-    def ours() -> object:
-        return match_descriptors(goal.descriptors, current.descriptors, ratio, False)
+def bench_describe(view: View, method: Sift, repeats: int) -> None:
+    """``describe`` against the bare OpenCV call it makes."""
+    mask = annulus_mask(view.geometry) if method.mask_annulus else None
+    detector = method._detector()
+    floor = "floor: bare cv2 SIFT detectAndCompute"
+    figures = {
+        floor: cpu_and_wall(lambda: detector.detectAndCompute(view.image, mask), repeats),
+        f"describe, raw 752 x 564 ({len(method.describe(view))} keypoints; target < 150)": (
+            cpu_and_wall(lambda: method.describe(view), repeats)
+        ),
+    }
+    print_figures(figures, floor)
 
+
+def bench_home(current: SiftFeatures, goal: SiftFeatures, repeats: int) -> float:
+    """``home`` and the descriptor matching against ``cv2.BFMatcher.knnMatch`` (k = 2); the
+    ratio of the Lowe test, for the solver's matches."""
+    p = Sift()
+    pn = Sift(horizon_constraint=False, half_plane_constraint=False)
     matcher = cv2.BFMatcher(cv2.NORM_L2)
 
     def opencv() -> list[tuple[int, int]]:
         pairs = matcher.knnMatch(goal.descriptors, current.descriptors, k=2)
-        return [(m.queryIdx, m.trainIdx) for m, n in pairs if m.distance < ratio * n.distance]
+        return [(m.queryIdx, m.trainIdx) for m, n in pairs if m.distance < p.ratio * n.distance]
 
-    ig, ic = ours()
+    floor = f"floor: cv2.BFMatcher.knnMatch, k = 2 ({len(goal)} x {len(current)})"
+    figures = {
+        floor: cpu_and_wall(
+            lambda: matcher.knnMatch(goal.descriptors, current.descriptors, k=2), repeats
+        ),
+        "matching (numpy, with the ratio test)": cpu_and_wall(
+            lambda: match_descriptors(goal.descriptors, current.descriptors, p.ratio, False),
+            repeats,
+        ),
+    }
+    for label, method in (("P", p), ("PN", pn)):
+        estimate = method.home(current, goal)
+        counts = f"{estimate.diagnostics['n_matches']} matches, {estimate.n_landmarks} landmarks"
+        figures[f"home {label} ({counts}; target < 10)"] = cpu_and_wall(
+            lambda m=method: m.home(current, goal), repeats
+        )
+    print_figures(figures, floor)
+    ig, ic = match_descriptors(goal.descriptors, current.descriptors, p.ratio, False)
     same = set(zip(ig.tolist(), ic.tolist(), strict=True)) == set(opencv())
-    t_ours, t_cv = per_call(ours, repeats), per_call(opencv, max(1, repeats // 5))
-    print(
-        f"matching {len(goal)} x {len(current)} descriptors: numpy {1e3 * t_ours:.2f} ms, "
-        f"cv2.BFMatcher {1e3 * t_cv:.2f} ms, speed-up {t_cv / t_ours:.1f}x "
-        f"(same matches: {same})"
-    )
+    print(f"  same matches as cv2.BFMatcher with the ratio test: {same}")
+    return p.ratio
 
 
 def main() -> None:
@@ -126,26 +158,15 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=20)
     args = parser.parse_args()
     cv2.setNumThreads(1)
-
+    print(load())
     current_view, goal_view = _views()
     p = Sift()
-    pn = Sift(horizon_constraint=False, half_plane_constraint=False)
-    t_describe = per_call(lambda: p.describe(current_view), max(1, args.repeats // 4))
+    bench_describe(current_view, p, max(1, args.repeats // 4))
     current, goal = p.describe(current_view), p.describe(goal_view)
-    print(
-        f"describe (raw 752 x 564, {len(current)} keypoints): {1e3 * t_describe:.1f} ms "
-        "per image (target < 150)"
-    )
-    for label, method in (("P", p), ("PN", pn)):
-        estimate = method.home(current, goal)
-        t_home = per_call(lambda m=method: m.home(current, goal), args.repeats)
-        print(
-            f"home {label}: {1e3 * t_home:.2f} ms per pair (target < 10), "
-            f"{estimate.diagnostics['n_matches']} matches, {estimate.n_landmarks} landmarks"
-        )
-    bench_matching(current, goal, p.ratio, args.repeats)
-    ig, ic = match_descriptors(goal.descriptors, current.descriptors, p.ratio, False)
+    ratio = bench_home(current, goal, args.repeats)
+    ig, ic = match_descriptors(goal.descriptors, current.descriptors, ratio, False)
     bench_solver(goal.azimuths[ig], current.azimuths[ic], p.max_triples, args.repeats)
+    print(load())
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the direct search
-from timing import cpu_and_wall, load  # noqa: E402
+from timing import cpu_and_wall, load, print_figures  # noqa: E402
 from warping_reference import direct_costs  # noqa: E402
 
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
@@ -47,11 +47,6 @@ SPEC = WorldSpec(
     unfolded={"width": 288, "elevation_top_deg": 45.0, "elevation_bottom_deg": -45.0},
 )
 GOAL = (5, 8)
-
-
-def _row(label: str, times: tuple[float, float], floor: float) -> None:
-    cpu, wall = times
-    print(f"  {label:44s} {cpu * 1e3:8.3f} {wall * 1e3:8.3f} {cpu / floor:8.2f}")
 
 
 def main() -> None:
@@ -81,11 +76,14 @@ def main() -> None:
     describe = cpu_and_wall(lambda: method.describe(views[GOAL]), 20 * repeats)
 
     print(f"warping {method.n_rho} x {method.n_alpha} x {method.n_psi}, one thread, goal {GOAL}")
-    print(f"  {'per call':44s} {'CPU ms':>8s} {'wall ms':>8s} {'/ floor':>8s}")
-    _row(f"floor: float32 ({shape[0]} x {shape[1]}) x ({shape[1]} x {shape[2]})", floor, floor[0])
-    _row("home, goal kept (a job's pairs)", kept, floor[0])
-    _row("home, goal's part rebuilt every call", fresh, floor[0])
-    _row("describe (288 x 72 -> 72)", describe, floor[0])
+    floor_label = f"floor: float32 ({shape[0]} x {shape[1]}) x ({shape[1]} x {shape[2]})"
+    figures = {
+        floor_label: floor,
+        "home, goal kept (a job's pairs)": kept,
+        "home, goal's part rebuilt every call": fresh,
+        "describe (288 x 72 -> 72)": describe,
+    }
+    print_figures(figures, floor_label)
 
     same = all(
         method.home(current, goal) == best_hypothesis(method.costs(current, goal), method.rho, 72)

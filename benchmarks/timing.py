@@ -1,5 +1,6 @@
-"""The timing rule every benchmark script shares (imported as ``from timing import per_call``;
-the scripts run from the repository root as ``python benchmarks/bench_x.py``).
+"""The timing rule every benchmark script shares (imported as ``from timing import
+cpu_and_wall``; the scripts run from the repository root as ``python benchmarks/bench_x.py``):
+process CPU and wall time per call, a floor measured in the same process, the load average.
 
 Importing it gives the benchmark process the job workers' allocator settings
 (:func:`~homebench.evaluation.worker.keep_freed_memory`), so that a method timed here runs as
@@ -19,18 +20,6 @@ from homebench.evaluation.worker import keep_freed_memory
 AS_IN_WORKERS = keep_freed_memory()
 
 
-def per_call(function: Callable[[], object], repeats: int) -> float:
-    """Best-of-3 mean seconds per call over ``repeats`` calls (after one warm-up call)."""
-    function()
-    times = []
-    for _ in range(3):
-        start = time.perf_counter()
-        for _ in range(repeats):
-            function()
-        times.append((time.perf_counter() - start) / repeats)
-    return min(times)
-
-
 def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, float]:
     """Best-of-3 per-call process CPU seconds (``time.process_time``) and wall seconds over
     ``repeats`` calls (after one warm-up call), each the best of its own three rounds."""
@@ -43,6 +32,16 @@ def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, f
         cpu.append((time.process_time() - cpu_start) / repeats)
         wall.append((time.perf_counter() - wall_start) / repeats)
     return min(cpu), min(wall)
+
+
+def print_figures(figures: dict[str, tuple[float, float]], floor: str) -> None:
+    """Print (CPU, wall) seconds per call by label as a table in ms, each CPU time also over
+    that of the label ``floor`` (a bare library call measured in the same process)."""
+    width = max(len(label) for label in figures)
+    print(f"  {'per call':{width}s} {'CPU ms':>9s} {'wall ms':>9s} {'/ floor':>8s}")
+    base = figures[floor][0]
+    for label, (cpu, wall) in figures.items():
+        print(f"  {label:{width}s} {1000 * cpu:9.3f} {1000 * wall:9.3f} {cpu / base:8.2f}")
 
 
 def load() -> str:
