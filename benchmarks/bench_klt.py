@@ -27,6 +27,7 @@ import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import cv2  # noqa: E402
+import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the arena renderer
 from synthetic_panorama import render  # noqa: E402
@@ -35,10 +36,26 @@ from timing import cpu_and_wall, load, print_figures  # noqa: E402
 from homebench.evaluation.grid_routes import grid_route  # noqa: E402
 from homebench.geometry import Grid, PanoramaGeometry, Pose  # noqa: E402
 from homebench.methods.klt_sector import KltSector  # noqa: E402
-from homebench.methods.klt_tracking import Tracks  # noqa: E402
+from homebench.methods.klt_tracking import KltTracker, Tracks  # noqa: E402
 
 GOAL = Pose(0.2, -0.3, 0.4)
 STEP = 0.05  # metres between route views
+
+
+def bare_lk(
+    tracker: KltTracker, before: np.ndarray, after: np.ndarray, corners: np.ndarray
+) -> None:
+    """The floor of a tracking step: OpenCV's pyramidal LK from ``before`` to ``after`` and
+    back (images (h, w) uint8, ``corners`` (n, 2) pixels), with the tracker's parameters."""
+    lk = {
+        "winSize": (tracker.window_size, tracker.window_size),
+        "maxLevel": tracker.pyramid_levels,
+        "criteria": (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 30, 0.01),
+        "minEigThreshold": tracker.min_eigen,
+    }
+    points = np.asarray(corners, dtype=np.float32).reshape(-1, 1, 2)
+    moved, _, _ = cv2.calcOpticalFlowPyrLK(before, after, points, None, **lk)
+    cv2.calcOpticalFlowPyrLK(after, before, moved, None, **lk)
 
 
 def run(width: int, steps: int, repeats: int) -> None:
@@ -57,20 +74,11 @@ def run(width: int, steps: int, repeats: int) -> None:
             t = tracker.step(before.image, t, after.image, replenish=False).survivors()
         return t
 
-    def bare() -> None:
-        lk = {
-            "winSize": (tracker.window_size, tracker.window_size),
-            "maxLevel": tracker.pyramid_levels,
-            "criteria": (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 30, 0.01),
-            "minEigThreshold": tracker.min_eigen,
-        }
-        points = goal.corners.reshape(-1, 1, 2)
-        moved, _, _ = cv2.calcOpticalFlowPyrLK(goal.image, features[1].image, points, None, **lk)
-        cv2.calcOpticalFlowPyrLK(features[1].image, goal.image, moved, None, **lk)
-
     survivors = track_route()
     figures = {
-        "floor: bare LK forward + backward": cpu_and_wall(bare, repeats * 4),
+        "floor: bare LK forward + backward": cpu_and_wall(
+            lambda: bare_lk(tracker, goal.image, features[1].image, goal.corners), repeats * 4
+        ),
         "describe (per view)": cpu_and_wall(lambda: method.describe(views[0]), repeats),
         "track step (per image pair)": cpu_and_wall(
             lambda: tracker.step(goal.image, tracks, features[1].image, replenish=False),

@@ -1,8 +1,12 @@
 """Timing of route homing (seed 000) in a generated world, one thread.
 
-Prints: render time per frame (the world renders raw and unfolded images), tracking time per
-outbound step (KLT with replenishment), per homing step (sector law, and the anchor match
-against the target's panorama), and per route: the outbound drive and the visual homing.
+Prints process CPU and wall time: per rendered frame (the world renders raw and unfolded
+images), per outbound tracking step (KLT with replenishment), per homing step without its
+rendering (sector law, and the anchor match against the target's panorama), each CPU time over
+a floor measured in the same process (OpenCV's pyramidal LK forward and backward on the first
+two outbound frames, as ``bench_klt.py``); then per route: the outbound drive and the visual
+homing. The load average before and after. The tracker, motion limits and homing parameters
+are those of ``configs/klt_route.yaml`` (with the anchor match on), the route a straight line.
 
 Run: ``python benchmarks/bench_route.py [--length M] [--width PX]``.
 """
@@ -18,34 +22,49 @@ import argparse  # noqa: E402
 import math  # noqa: E402
 import time  # noqa: E402
 from itertools import pairwise  # noqa: E402
+from pathlib import Path  # noqa: E402
 
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
+from bench_klt import bare_lk  # noqa: E402
+from timing import cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.data.synth.spec import UnfoldedImageSpec, WorldSpec  # noqa: E402
-from homebench.experiments.robot import DriftModel, MotionLimits, Robot  # noqa: E402
+from homebench.experiments.robot import DriftModel, Robot  # noqa: E402
+from homebench.experiments.route.config import load_route_config  # noqa: E402
 from homebench.experiments.route.lifecycle import select_targets  # noqa: E402
 from homebench.experiments.route.outbound import drive_outbound  # noqa: E402
-from homebench.experiments.route.visual import VisualHomingParams, home_visually  # noqa: E402
+from homebench.experiments.route.visual import home_visually  # noqa: E402
 from homebench.experiments.scene import Camera, world_scene  # noqa: E402
 from homebench.geometry import Pose  # noqa: E402
-from homebench.methods.klt_tracking import KltTracker, Tracks  # noqa: E402
+from homebench.methods.klt_tracking import Tracks  # noqa: E402
 
 HOME = Pose(1.7, 1.8, math.pi / 2)
+ROOT = Path(__file__).resolve().parents[1]
 
 
 class TimedCamera:
-    """A camera that adds up its wall time and calls."""
+    """A camera that adds up its process CPU and wall time and its calls."""
 
     def __init__(self, camera: Camera):
-        self.camera, self.seconds, self.calls = camera, 0.0, 0
+        self.camera, self.cpu, self.wall, self.calls = camera, 0.0, 0.0, 0
 
     def __call__(self, pose: Pose, k: int) -> np.ndarray:
-        start = time.perf_counter()
+        cpu, wall = time.process_time(), time.perf_counter()
         image = self.camera(pose, k)
-        self.seconds += time.perf_counter() - start
+        self.cpu += time.process_time() - cpu
+        self.wall += time.perf_counter() - wall
         self.calls += 1
         return image
+
+
+def _since(cpu: float, wall: float) -> tuple[float, float]:
+    """Process CPU and wall seconds since (``cpu``, ``wall``)."""
+    return time.process_time() - cpu, time.perf_counter() - wall
+
+
+def _now() -> tuple[float, float]:
+    return time.process_time(), time.perf_counter()
 
 
 def main() -> None:
@@ -55,41 +74,60 @@ def main() -> None:
     args = parser.parse_args()
     cv2.setNumThreads(1)
     scene = world_scene(WorldSpec(unfolded=UnfoldedImageSpec(width=args.width)))
-    limits = MotionLimits(step_length=0.05, max_turn_deg=10.0)
-    tracker = KltTracker(max_corners=150, min_tracks=100, min_eigen=0.02)
+    config = load_route_config(ROOT / "configs" / "klt_route.yaml")  # what users run
+    limits, tracker = config.motion, config.klt()
     waypoints = np.array([[HOME.x, HOME.y], [HOME.x, HOME.y + args.length]])
     robot = Robot.at(HOME, DriftModel(), np.random.default_rng(0))
 
+    print(load())
     camera = TimedCamera(scene.camera(0, "outbound"))
-    start = time.perf_counter()
+    start = _now()
     outbound = drive_outbound(robot, waypoints, limits, camera, tracker)
-    outbound_s = time.perf_counter() - start
-    render_ms = 1000 * camera.seconds / camera.calls
-    start = time.perf_counter()  # the outbound's tracking again, without rendering
+    outbound_time = _since(*start)
+    render = (camera.cpu / camera.calls, camera.wall / camera.calls)
+    start = _now()  # the outbound's tracking again, without rendering
     tracks = Tracks.start(tracker.detect(outbound.images[0]))
     for before, after in pairwise(outbound.images):
         tracks = tracker.step(before, tracks, after).survivors()
-    track_ms = 1000 * (time.perf_counter() - start) / outbound.end
-    targets = select_targets(outbound.log.lifecycles(), outbound.end, 80)
+    tracking = tuple(t / outbound.end for t in _since(*start))
+    targets = select_targets(outbound.log.lifecycles(), outbound.end, config.homing.min_shared)
 
     camera = TimedCamera(scene.camera(0, "homing"))
-    params = VisualHomingParams(anchor=True)
-    start = time.perf_counter()
+    params = config.homing.model_copy(update={"anchor": True})
+    start = _now()
     homing = home_visually(
         robot, outbound, targets, camera, tracker, scene.geometry, limits, params
     )
-    homing_s = time.perf_counter() - start
+    homing_time = _since(*start)
     steps = len(homing.poses) - 1
-    homing_ms = 1000 * (homing_s - camera.seconds) / max(steps, 1)
+    per_step = (
+        (homing_time[0] - camera.cpu) / max(steps, 1),
+        (homing_time[1] - camera.wall) / max(steps, 1),
+    )
+    first, second = outbound.images[:2]
+    corners = tracker.detect(first)
 
     print(f"panorama {scene.geometry.width} x {scene.geometry.height} px")
-    print(f"render per frame (raw + unfolded): {render_ms:.1f} ms")
-    print(f"outbound: {len(outbound.images)} frames, {args.length:g} m, {outbound_s:.2f} s")
-    print(f"  tracking per step (KLT, replenishing): {track_ms:.1f} ms")
-    print(f"homing: {steps} steps, {len(targets) - 1} intermediate positions, {homing_s:.2f} s")
-    print(f"  per step without rendering (KLT + anchor + sector law): {homing_ms:.1f} ms")
-    total = outbound_s + homing_s
-    print(f"route: {total:.2f} s, {total / args.length:.2f} s per metre of route")
+    floor = f"floor: bare LK forward + backward ({len(corners)} corners)"
+    figures = {
+        floor: cpu_and_wall(lambda: bare_lk(tracker, first, second, corners), 20),
+        "render per frame (raw + unfolded)": render,
+        "tracking per outbound step (KLT, replenishing)": tracking,
+        "homing step without rendering (KLT + anchor + sector law)": per_step,
+    }
+    print_figures(figures, floor)
+    print(f"outbound: {len(outbound.images)} frames, {args.length:g} m, {_seconds(outbound_time)}")
+    print(
+        f"homing: {steps} steps, {len(targets) - 1} intermediate positions, {_seconds(homing_time)}"
+    )
+    total = tuple(o + h for o, h in zip(outbound_time, homing_time, strict=True))
+    per_metre = tuple(t / args.length for t in total)
+    print(f"route: {_seconds(total)}, per metre of route {_seconds(per_metre)}")
+    print(load())
+
+
+def _seconds(times: tuple[float, ...]) -> str:
+    return f"{times[0]:.2f} s CPU, {times[1]:.2f} s wall"
 
 
 if __name__ == "__main__":
