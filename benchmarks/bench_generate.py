@@ -2,78 +2,96 @@
 
 Usage: python benchmarks/bench_generate.py [--grid NX NY]
 
-Prints the data layer's own cost per image (PNG encoding, sha256, atomic write), then the total
-and per-image time of a full generation with jobs=1 (the reference) and jobs=2, and whether both
-wrote identical bytes. Everything goes to a temporary folder that is removed afterwards.
+Prints, per grid position (one raw and one unfolded image), process CPU and wall time of the
+data layer's own cost (PNG encoding, sha256, atomic write) and of a full generation with
+jobs=1 (the reference) and jobs=2 (CPU of this process and its workers), each CPU time over a
+floor measured in the same process: the bare ``cv2.imencode`` of the position's two images with
+homebench's PNG settings. Then the speed-up with 2 jobs, whether both wrote identical bytes,
+and the load average before and after. Everything goes to a temporary folder that is removed
+afterwards.
 """
 
 from __future__ import annotations
 
 import argparse
 import hashlib
-import importlib.util
+import resource
 import sys
 import tempfile
 import time
 from pathlib import Path
 
+import cv2
 import numpy as np
+from joblib.externals.loky import get_reusable_executor
+from timing import cpu_and_wall, load, print_figures
 
 from homebench.data.generate import generate
 from homebench.data.synth.spec import GridSpec, WorldSpec
-from homebench.fileio import encode_png, write_bytes_atomic
+from homebench.fileio import PNG_PARAMS, encode_png, write_bytes_atomic
 
 
-def io_cost(spec: WorldSpec, folder: Path, repeats: int = 20) -> dict[str, float]:
-    """Seconds per image to encode, hash and atomically write a noisy image of each kind."""
+def _noisy_images(spec: WorldSpec) -> list[np.ndarray]:
+    """A noisy raw and a noisy unfolded image of the spec's sizes (uint8)."""
     rng = np.random.default_rng(0)
-    shapes = {
-        "raw": (spec.raw.height, spec.raw.width),
-        "unfolded": (spec.unfolded.height, spec.unfolded.width),
-    }
-    cost = {}
-    for kind, shape in shapes.items():
-        image = np.clip(rng.normal(128, 40, shape), 0, 255).astype(np.uint8)
-        start = time.perf_counter()
-        for k in range(repeats):
-            data = encode_png(image)
-            hashlib.sha256(data).hexdigest()
-            write_bytes_atomic(folder / f"{kind}-{k}.png", data)
-        cost[kind] = (time.perf_counter() - start) / repeats
-    return cost
+    shapes = [(spec.raw.height, spec.raw.width), (spec.unfolded.height, spec.unfolded.width)]
+    return [np.clip(rng.normal(128, 40, shape), 0, 255).astype(np.uint8) for shape in shapes]
 
 
-def timed_generation(spec: WorldSpec, out: Path, jobs: int) -> float:
-    start = time.perf_counter()
+def _cpu() -> float:
+    """CPU seconds of this process and of its children that ended (user + system)."""
+    own, children = (
+        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def timed_generation(spec: WorldSpec, out: Path, jobs: int) -> tuple[float, float]:
+    """CPU seconds (this process and its workers) and wall seconds of one generation."""
+    cpu, wall = _cpu(), time.perf_counter()
     generate(spec, out, jobs, "bench")
-    return time.perf_counter() - start
+    wall = time.perf_counter() - wall
+    get_reusable_executor().shutdown(wait=True)  # joblib's workers end, so their CPU counts
+    return _cpu() - cpu, wall
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grid", nargs=2, type=int, default=(10, 17), metavar=("NX", "NY"))
     args = parser.parse_args()
+    print(load())
     spec = WorldSpec(grid=GridSpec(shape=tuple(args.grid)))
-    n_images = 2 * spec.to_grid().size
+    positions = spec.to_grid().size
+    images = _noisy_images(spec)
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        for kind, seconds in io_cost(spec, folder).items():
-            print(f"I/O per {kind} image (encode + sha256 + atomic write): {seconds * 1e3:.1f} ms")
-        if importlib.util.find_spec("homebench.data.synth.world") is None:
-            print("no renderer (homebench.data.synth.world) yet: generation not timed")
-            return 1
-        times = {jobs: timed_generation(spec, folder / f"jobs{jobs}", jobs) for jobs in (1, 2)}
-        for jobs, seconds in times.items():
-            print(
-                f"jobs={jobs}: {seconds:.1f} s for {args.grid[0]} x {args.grid[1]} positions, "
-                f"{n_images} images ({seconds / n_images * 1e3:.0f} ms per image)"
-            )
+
+        def write_both() -> None:
+            for kind, image in zip(("raw", "unfolded"), images, strict=True):
+                data = encode_png(image)
+                hashlib.sha256(data).hexdigest()
+                write_bytes_atomic(folder / f"{kind}.png", data)
+
+        floor = "floor: bare cv2.imencode PNG, raw + unfolded"
+        figures = {
+            floor: cpu_and_wall(
+                lambda: [cv2.imencode(".png", image, list(PNG_PARAMS)) for image in images], 10
+            ),
+            "I/O: encode + sha256 + atomic write": cpu_and_wall(write_both, 10),
+        }
+        for jobs in (1, 2):
+            cpu, wall = timed_generation(spec, folder / f"jobs{jobs}", jobs)
+            figures[f"generation, jobs={jobs}"] = (cpu / positions, wall / positions)
+        print(f"per grid position (one raw and one unfolded image), {positions} positions:")
+        print_figures(figures, floor)
         same = all(
             p.read_bytes() == (folder / "jobs2" / p.relative_to(folder / "jobs1")).read_bytes()
             for p in (folder / "jobs1").rglob("*")
             if p.is_file()
         )
-        print(f"speed-up with 2 jobs: {times[1] / times[2]:.2f}x; identical bytes: {same}")
+        speed_up = figures["generation, jobs=1"][1] / figures["generation, jobs=2"][1]
+        print(f"speed-up with 2 jobs: {speed_up:.2f}x; identical bytes: {same}")
+    print(load())
     return 0
 
 
