@@ -4,20 +4,26 @@
     python benchmarks/bench_sweep.py --full          # also all 28,730 pairs of the 10 x 17 grid
 
 Each measurement is a fresh run folder (features and jobs computed from scratch; the generated
-database is generated once beforehand and not timed). The ratio column compares --jobs 2 with
-the --jobs 1 reference measured in the same process.
+database is generated once beforehand and not timed): its wall time, its CPU time (this
+process and its workers), and that CPU over a floor measured in the same run, the method's
+own time (every pair's ``home`` and every image's ``describe`` once, as the jobs record them in
+the result rows). The speed-up column compares --jobs 2 with the --jobs 1 reference measured
+in the same process; the load average is printed before and after each line.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import resource
 import tempfile
 import time
 from pathlib import Path
 
 from homebench.config import RunConfig
 from homebench.data.catalog import ensure_generated
+from homebench.evaluation.plan import Plan
 from homebench.evaluation.runner import Execution, run_plan
 
 METHODS = ("warping", "sift", "klt-sector")
@@ -35,17 +41,46 @@ def _config(output: Path, method: str, goals: object) -> RunConfig:
     )
 
 
-def _timed_run(method: str, goals: object, jobs: int) -> tuple[float, int, int]:
-    """Seconds, home jobs and pairs of one fresh run."""
+def _cpu() -> float:
+    """CPU seconds of this process and of its children that ended (user + system)."""
+    own, children = (
+        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def _method_seconds(plan: Plan, run_dir: Path) -> float:
+    """Seconds the method itself took in a run: every pair's ``home`` and every current
+    view's ``describe`` once, as the result rows record them."""
+    home, describe = 0.0, {}
+    for job in plan.home:
+        for row in json.loads(job.result_path(run_dir).read_bytes())["rows"]:
+            home += row["home_ms"] or 0.0
+            describe[row["current_i"], row["current_j"], row["rotation"]] = row["describe_ms"]
+    return (home + sum(ms or 0.0 for ms in describe.values())) / 1000.0
+
+
+def _timed_run(method: str, goals: object, jobs: int) -> tuple[float, float, float, int, int]:
+    """Wall and CPU seconds, the method's own seconds, home jobs and pairs of one fresh run."""
     with tempfile.TemporaryDirectory() as folder:
         config = _config(Path(folder) / "run", method, goals)
-        start = time.perf_counter()
+        cpu, start = _cpu(), time.perf_counter()
         outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
-        seconds = time.perf_counter() - start
+        seconds, cpu = time.perf_counter() - start, _cpu() - cpu
         if outcome.failures:
             raise SystemExit(f"{method}: {len(outcome.failures)} job(s) failed")
         pairs = sum(len(job.currents) for job in outcome.plan.home)
-        return seconds, len(outcome.plan.home), pairs
+        own = _method_seconds(outcome.plan, config.output)
+        return seconds, cpu, own, len(outcome.plan.home), pairs
+
+
+def _line(method: str, jobs: int, run: tuple[float, float, float, int, int], load: float) -> str:
+    seconds, cpu, own, n_jobs, pairs = run
+    return (
+        f"{method:<12} {jobs:>4} {pairs:>6} {seconds:>8.2f} {cpu:>7.2f} {cpu / own:>7.2f} "
+        f"{n_jobs / seconds:>7.2f} {pairs / seconds:>8.0f}"
+        f"  {load:.2f}/{os.getloadavg()[0]:.2f}"
+    )
 
 
 def main() -> None:
@@ -55,26 +90,24 @@ def main() -> None:
     args = parser.parse_args()
     ensure_generated("synth-original", jobs=2)
     goals = {"random": args.goals, "seed": 1}
-    print(f"{'method':<12} {'jobs':>4} {'seconds':>8} {'jobs/s':>7} {'pairs/s':>8} {'ratio':>6}")
+    print(
+        f"{'method':<12} {'jobs':>4} {'pairs':>6} {'wall s':>8} {'CPU s':>7} {'/ floor':>7} "
+        f"{'jobs/s':>7} {'pairs/s':>8}  load before/after, speed-up"
+    )
     for method in METHODS:
-        reference = None
+        walls = {}
         for n in (1, 2):
-            seconds, n_jobs, pairs = _timed_run(method, goals, n)
-            reference = reference or seconds
-            print(
-                f"{method:<12} {n:>4} {seconds:>8.2f} {n_jobs / seconds:>7.2f} "
-                f"{pairs / seconds:>8.0f} {reference / seconds:>6.2f}"
-            )
+            load = os.getloadavg()[0]
+            run = _timed_run(method, goals, n)
+            walls[n] = run[0]
+            print(_line(method, n, run, load) + f"  {walls[1] / walls[n]:.2f}x")
     if args.full:
         total = 0.0
         for method in METHODS:
             load = os.getloadavg()[0]
-            seconds, _, pairs = _timed_run(method, "all", 2)
-            total += seconds
-            print(
-                f"all pairs, {method:<12}: {pairs} pairs in {seconds:.0f} s (--jobs 2), "
-                f"load before/after {load:.2f}/{os.getloadavg()[0]:.2f}"
-            )
+            run = _timed_run(method, "all", 2)
+            total += run[0]
+            print(_line(method, 2, run, load) + "  (all pairs)")
         print(f"all three methods, full grid of one condition: {total:.0f} s (target < 180 s)")
 
 
