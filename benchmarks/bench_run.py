@@ -125,10 +125,11 @@ def main() -> None:
     parser.add_argument("--methods", nargs="+", default=list(METHODS))
     args = parser.parse_args()
     ensure_generated(DATABASE, jobs=2)
+    print("per pair: process CPU ms (this process and its workers for the runs); whole runs: s")
     print(
-        f"{'method':<12} {'pairs':>5} {'floor ms':>8} {'j1 ms':>7} {'ratio':>5} {'j2 ms':>7} "
-        f"{'ratio':>5} {'j1 s':>6} {'j2 s':>6} {'speed-up':>8} {'fixed s':>9} {'marginal':>9}"
-        "  load before/after"
+        f"{'method':<12} {'pairs':>5} {'floor CPU':>9} {'j1 CPU':>7} {'ratio':>5} {'j2 CPU':>7} "
+        f"{'ratio':>5} {'j1 wall':>7} {'j2 wall':>7} {'speed-up':>8} {'fixed CPU':>9} "
+        f"{'marginal':>9}  load before/after"
     )
     for name in args.methods:
         load = os.getloadavg()[0]
@@ -141,9 +142,9 @@ def main() -> None:
         marginal = {n: (runs[n][1] - fixed[n]) / floor for n in runs}
         floor_ms = 1000.0 * floor / pairs
         print(
-            f"{name:<12} {pairs:>5} {floor_ms:>8.2f} {per_pair[1]:>7.2f} "
+            f"{name:<12} {pairs:>5} {floor_ms:>9.2f} {per_pair[1]:>7.2f} "
             f"{per_pair[1] / floor_ms:>5.2f} {per_pair[2]:>7.2f} {per_pair[2] / floor_ms:>5.2f} "
-            f"{runs[1][0]:>6.2f} {runs[2][0]:>6.2f} {runs[1][0] / runs[2][0]:>8.2f} "
+            f"{runs[1][0]:>7.2f} {runs[2][0]:>7.2f} {runs[1][0] / runs[2][0]:>8.2f} "
             f"{fixed[1]:>4.2f}/{fixed[2]:>4.2f} {marginal[1]:>4.2f}/{marginal[2]:>4.2f}  "
             f"{load:.2f}/{os.getloadavg()[0]:.2f}",
             flush=True,
