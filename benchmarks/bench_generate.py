@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import resource
 import sys
 import tempfile
 import time
@@ -24,7 +23,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 from joblib.externals.loky import get_reusable_executor
-from timing import cpu_and_wall, load, print_figures
+from timing import cpu_and_wall, cpu_with_children, load, print_figures
 
 from homebench.data.generate import generate
 from homebench.data.synth.spec import GridSpec, WorldSpec
@@ -38,21 +37,13 @@ def _noisy_images(spec: WorldSpec) -> list[np.ndarray]:
     return [np.clip(rng.normal(128, 40, shape), 0, 255).astype(np.uint8) for shape in shapes]
 
 
-def _cpu() -> float:
-    """CPU seconds of this process and of its children that ended (user + system)."""
-    own, children = (
-        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
-    )
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
-
-
 def timed_generation(spec: WorldSpec, out: Path, jobs: int) -> tuple[float, float]:
     """CPU seconds (this process and its workers) and wall seconds of one generation."""
-    cpu, wall = _cpu(), time.perf_counter()
+    cpu, wall = cpu_with_children(), time.perf_counter()
     generate(spec, out, jobs, "bench")
     wall = time.perf_counter() - wall
     get_reusable_executor().shutdown(wait=True)  # joblib's workers end, so their CPU counts
-    return _cpu() - cpu, wall
+    return cpu_with_children() - cpu, wall
 
 
 def main() -> int:

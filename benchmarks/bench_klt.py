@@ -31,7 +31,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the arena renderer
 from synthetic_panorama import render  # noqa: E402
-from timing import cpu_and_wall, load, print_figures  # noqa: E402
+from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.evaluation.grid_routes import grid_route  # noqa: E402
 from homebench.geometry import Grid, PanoramaGeometry, Pose  # noqa: E402
@@ -130,6 +130,7 @@ def job(width: int) -> None:
 
 
 def main() -> None:
+    as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--steps", type=int, default=20)

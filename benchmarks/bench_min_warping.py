@@ -33,7 +33,7 @@ import math  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
-from timing import cpu_and_wall  # noqa: E402
+from timing import as_in_job_workers, cpu_and_wall  # noqa: E402
 
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
 from homebench.data.synth.world import render_position  # noqa: E402
@@ -132,6 +132,7 @@ def accuracy() -> None:
 
 
 def main() -> None:
+    as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=10)
     parser.add_argument("--cold", action="store_true", help="compile into an empty numba cache")

@@ -27,7 +27,7 @@ from pathlib import Path  # noqa: E402
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 from bench_klt import bare_lk  # noqa: E402
-from timing import cpu_and_wall, load, print_figures  # noqa: E402
+from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.data.synth.spec import UnfoldedImageSpec, WorldSpec  # noqa: E402
 from homebench.experiments.robot import DriftModel, Robot  # noqa: E402
@@ -68,6 +68,7 @@ def _now() -> tuple[float, float]:
 
 
 def main() -> None:
+    as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--length", type=float, default=2.0, help="route length, metres")
     parser.add_argument("--width", type=int, default=360, help="panorama width, pixels")

@@ -22,13 +22,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import statistics
 import tempfile
 import time
 from pathlib import Path
 
 import cv2
+from timing import cpu_with_children
 
 from homebench.config import RunConfig
 from homebench.data.catalog import ensure_generated
@@ -55,14 +55,6 @@ def _config(output: Path, method: str, goals: int) -> RunConfig:
             "methods": [{"method": method}],
         }
     )
-
-
-def _cpu() -> float:
-    """CPU seconds of this process and of its children that ended (user + system)."""
-    own, children = (
-        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
-    )
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def _floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
@@ -101,9 +93,9 @@ def _floor_in_worker(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
 
 def _run(config: RunConfig, jobs: int) -> tuple[float, float]:
     """Wall and CPU seconds (this process and its workers) of one fresh run."""
-    wall, cpu = time.perf_counter(), _cpu()
+    wall, cpu = time.perf_counter(), cpu_with_children()
     outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
-    wall, cpu = time.perf_counter() - wall, _cpu() - cpu
+    wall, cpu = time.perf_counter() - wall, cpu_with_children() - cpu
     if outcome.failures:
         raise SystemExit(f"{len(outcome.failures)} job(s) failed: {outcome.failures[0].error}")
     return wall, cpu

@@ -25,7 +25,7 @@ import math  # noqa: E402
 
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
-from timing import cpu_and_wall, load, print_figures  # noqa: E402
+from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
 from homebench.data.synth.world import build_world  # noqa: E402
@@ -154,6 +154,7 @@ def bench_home(current: SiftFeatures, goal: SiftFeatures, repeats: int) -> float
 
 
 def main() -> None:
+    as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=20)
     args = parser.parse_args()

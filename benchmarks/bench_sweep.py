@@ -16,10 +16,11 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import tempfile
 import time
 from pathlib import Path
+
+from timing import cpu_with_children
 
 from homebench.config import RunConfig
 from homebench.data.catalog import ensure_generated
@@ -41,14 +42,6 @@ def _config(output: Path, method: str, goals: object) -> RunConfig:
     )
 
 
-def _cpu() -> float:
-    """CPU seconds of this process and of its children that ended (user + system)."""
-    own, children = (
-        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
-    )
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
-
-
 def _method_seconds(plan: Plan, run_dir: Path) -> float:
     """Seconds the method itself took in a run: every pair's ``home`` and every current
     view's ``describe`` once, as the result rows record them."""
@@ -64,9 +57,9 @@ def _timed_run(method: str, goals: object, jobs: int) -> tuple[float, float, flo
     """Wall and CPU seconds, the method's own seconds, home jobs and pairs of one fresh run."""
     with tempfile.TemporaryDirectory() as folder:
         config = _config(Path(folder) / "run", method, goals)
-        cpu, start = _cpu(), time.perf_counter()
+        cpu, start = cpu_with_children(), time.perf_counter()
         outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
-        seconds, cpu = time.perf_counter() - start, _cpu() - cpu
+        seconds, cpu = time.perf_counter() - start, cpu_with_children() - cpu
         if outcome.failures:
             raise SystemExit(f"{method}: {len(outcome.failures)} job(s) failed")
         pairs = sum(len(job.currents) for job in outcome.plan.home)

@@ -33,7 +33,7 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))  # the direct search
-from timing import cpu_and_wall, load, print_figures  # noqa: E402
+from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa: E402
 from warping_reference import direct_costs  # noqa: E402
 
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
@@ -50,6 +50,7 @@ GOAL = (5, 8)
 
 
 def main() -> None:
+    as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3, help="rounds over all pairs")
     repeats = parser.parse_args().repeats

@@ -2,22 +2,32 @@
 cpu_and_wall``; the scripts run from the repository root as ``python benchmarks/bench_x.py``):
 process CPU and wall time per call, a floor measured in the same process, the load average.
 
-Importing it gives the benchmark process the job workers' allocator settings
-(:func:`~homebench.evaluation.worker.keep_freed_memory`), so that a method timed here runs as
-it does in a run: without them, a method that allocates large arrays per call pays page faults
-that depend on what the process allocated before.
+A script that times what runs in job workers (a method's ``describe`` and ``home``, a route
+trial) first calls :func:`as_in_job_workers`, so that it allocates as they do
+(:func:`~homebench.evaluation.worker.keep_freed_memory`): otherwise a method that allocates
+large arrays per call pays page faults that depend on what the process allocated before.
+Scripts that time generation (its workers keep glibc's defaults) or whole runs (whose main
+process does too) leave the defaults.
 """
 
 from __future__ import annotations
 
 import os
+import resource
 import time
 from collections.abc import Callable
 
 from homebench.evaluation.worker import keep_freed_memory
 
-#: Whether this process keeps freed memory as the job workers do (False without glibc).
-AS_IN_WORKERS = keep_freed_memory()
+_allocator = "glibc's defaults"  # what load() says of this process's allocator
+
+
+def as_in_job_workers() -> None:
+    """Give this process the job workers' allocator settings."""
+    global _allocator
+    _allocator = (
+        "as the job workers" if keep_freed_memory() else "not as the job workers (no glibc)"
+    )
 
 
 def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, float]:
@@ -34,6 +44,15 @@ def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, f
     return min(cpu), min(wall)
 
 
+def cpu_with_children() -> float:
+    """CPU seconds of this process and of its children that ended (user + system): a run's
+    workers count once they have been waited for."""
+    own, children = (
+        resource.getrusage(who) for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)
+    )
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
 def print_figures(figures: dict[str, tuple[float, float]], floor: str) -> None:
     """Print (CPU, wall) seconds per call by label as a table in ms, each CPU time also over
     that of the label ``floor`` (a bare library call measured in the same process)."""
@@ -48,5 +67,4 @@ def load() -> str:
     """The 1-, 5- and 15-minute load averages and how this process allocates, for a
     benchmark's report."""
     averages = " ".join(f"{x:.2f}" for x in os.getloadavg())
-    allocator = "as the job workers" if AS_IN_WORKERS else "not as the job workers (no glibc)"
-    return f"load average {averages}; allocator {allocator}"
+    return f"load average {averages}; allocator {_allocator}"
