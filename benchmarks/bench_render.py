@@ -11,24 +11,14 @@ per pixel, as the cast's texture reads are); the load average before and after. 
 from __future__ import annotations
 
 import argparse
-import time
-from collections.abc import Callable
-from typing import Any
 
 import cv2
 import numpy as np
-from timing import cpu_and_wall, load, print_figures
+from timing import cpu_and_wall, load, print_figures, timed
 
 from homebench.data.synth.spec import VARIANTS, WorldSpec
 from homebench.data.synth.world import RAW_SUPERSAMPLE, build_world, position_noise_seed
 from homebench.imaging.projection import fold
-
-
-def _timed(fn: Callable[..., Any], *args: Any) -> tuple[Any, tuple[float, float]]:
-    """``fn(*args)`` and the process CPU and wall seconds it took."""
-    cpu, wall = time.process_time(), time.perf_counter()
-    out = fn(*args)
-    return out, (time.process_time() - cpu, time.perf_counter() - wall)
 
 
 def _median(times: list[tuple[float, float]]) -> tuple[float, float]:
@@ -46,7 +36,7 @@ def main() -> None:
     print(load())
 
     spec = WorldSpec(seed=args.seed, variant=args.variant)
-    world, build = _timed(build_world, spec)
+    world, build = timed(build_world, spec)
     grid = spec.to_grid()
     rng = np.random.default_rng(0)
     picks = [tuple(int(v) for v in rng.integers(0, grid.shape)) for _ in range(args.poses)]
@@ -60,10 +50,10 @@ def main() -> None:
     }
     for i, j in picks:
         pose = spec.pose(i, j)
-        (hi, _), cast = _timed(world.panorama, pose)
-        _, unfolded = _timed(world.downsample, hi)
-        _, raw = _timed(fold, hi, world.panorama_geometry, world.raw_geometry, RAW_SUPERSAMPLE)
-        _, total = _timed(world.render, pose, position_noise_seed(spec.seed, i, j))
+        (hi, _), cast = timed(world.panorama, pose)
+        _, unfolded = timed(world.downsample, hi)
+        _, raw = timed(fold, hi, world.panorama_geometry, world.raw_geometry, RAW_SUPERSAMPLE)
+        _, total = timed(world.render, pose, position_noise_seed(spec.seed, i, j))
         for stage, times in zip(stages.values(), (cast, unfolded, raw, total), strict=True):
             stage.append(times)
 

@@ -27,7 +27,7 @@ from pathlib import Path  # noqa: E402
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 from bench_klt import bare_lk  # noqa: E402
-from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa: E402
+from timing import as_in_job_workers, cpu_and_wall, load, print_figures, timed  # noqa: E402
 
 from homebench.data.synth.spec import UnfoldedImageSpec, WorldSpec  # noqa: E402
 from homebench.experiments.robot import DriftModel, Robot  # noqa: E402
@@ -58,15 +58,6 @@ class TimedCamera:
         return image
 
 
-def _since(cpu: float, wall: float) -> tuple[float, float]:
-    """Process CPU and wall seconds since (``cpu``, ``wall``)."""
-    return time.process_time() - cpu, time.perf_counter() - wall
-
-
-def _now() -> tuple[float, float]:
-    return time.process_time(), time.perf_counter()
-
-
 def main() -> None:
     as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -82,24 +73,23 @@ def main() -> None:
 
     print(load())
     camera = TimedCamera(scene.camera(0, "outbound"))
-    start = _now()
-    outbound = drive_outbound(robot, waypoints, limits, camera, tracker)
-    outbound_time = _since(*start)
+    outbound, outbound_time = timed(drive_outbound, robot, waypoints, limits, camera, tracker)
     render = (camera.cpu / camera.calls, camera.wall / camera.calls)
-    start = _now()  # the outbound's tracking again, without rendering
-    tracks = Tracks.start(tracker.detect(outbound.images[0]))
-    for before, after in pairwise(outbound.images):
-        tracks = tracker.step(before, tracks, after).survivors()
-    tracking = tuple(t / outbound.end for t in _since(*start))
+
+    def track_outbound() -> None:  # the outbound's tracking again, without rendering
+        tracks = Tracks.start(tracker.detect(outbound.images[0]))
+        for before, after in pairwise(outbound.images):
+            tracks = tracker.step(before, tracks, after).survivors()
+
+    _, tracked = timed(track_outbound)
+    tracking = (tracked[0] / outbound.end, tracked[1] / outbound.end)
     targets = select_targets(outbound.log.lifecycles(), outbound.end, config.homing.min_shared)
 
     camera = TimedCamera(scene.camera(0, "homing"))
     params = config.homing.model_copy(update={"anchor": True})
-    start = _now()
-    homing = home_visually(
-        robot, outbound, targets, camera, tracker, scene.geometry, limits, params
+    homing, homing_time = timed(
+        home_visually, robot, outbound, targets, camera, tracker, scene.geometry, limits, params
     )
-    homing_time = _since(*start)
     steps = len(homing.poses) - 1
     per_step = (
         (homing_time[0] - camera.cpu) / max(steps, 1),

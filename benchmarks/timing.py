@@ -16,6 +16,7 @@ import os
 import resource
 import time
 from collections.abc import Callable
+from typing import Any
 
 from homebench.evaluation.worker import keep_freed_memory
 
@@ -28,6 +29,13 @@ def as_in_job_workers() -> None:
     _allocator = (
         "as the job workers" if keep_freed_memory() else "not as the job workers (no glibc)"
     )
+
+
+def timed(function: Callable[..., Any], *args: Any) -> tuple[Any, tuple[float, float]]:
+    """``function(*args)`` and the process CPU and wall seconds it took (one call)."""
+    cpu, wall = time.process_time(), time.perf_counter()
+    out = function(*args)
+    return out, (time.process_time() - cpu, time.perf_counter() - wall)
 
 
 def cpu_and_wall(function: Callable[[], object], repeats: int) -> tuple[float, float]:
