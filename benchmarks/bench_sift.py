@@ -119,9 +119,8 @@ def bench_describe(view: View, method: Sift, repeats: int) -> None:
     print_figures(figures, floor)
 
 
-def bench_home(current: SiftFeatures, goal: SiftFeatures, repeats: int) -> float:
-    """``home`` and the descriptor matching against ``cv2.BFMatcher.knnMatch`` (k = 2); the
-    ratio of the Lowe test, for the solver's matches."""
+def bench_home(current: SiftFeatures, goal: SiftFeatures, repeats: int) -> None:
+    """``home`` and the descriptor matching against ``cv2.BFMatcher.knnMatch`` (k = 2)."""
     p = Sift()
     pn = Sift(horizon_constraint=False, half_plane_constraint=False)
     matcher = cv2.BFMatcher(cv2.NORM_L2)
@@ -150,7 +149,6 @@ def bench_home(current: SiftFeatures, goal: SiftFeatures, repeats: int) -> float
     ig, ic = match_descriptors(goal.descriptors, current.descriptors, p.ratio, False)
     same = set(zip(ig.tolist(), ic.tolist(), strict=True)) == set(opencv())
     print(f"  same matches as cv2.BFMatcher with the ratio test: {same}")
-    return p.ratio
 
 
 def main() -> None:
@@ -164,8 +162,8 @@ def main() -> None:
     p = Sift()
     bench_describe(current_view, p, max(1, args.repeats // 4))
     current, goal = p.describe(current_view), p.describe(goal_view)
-    ratio = bench_home(current, goal, args.repeats)
-    ig, ic = match_descriptors(goal.descriptors, current.descriptors, ratio, False)
+    bench_home(current, goal, args.repeats)
+    ig, ic = match_descriptors(goal.descriptors, current.descriptors, p.ratio, False)
     bench_solver(goal.azimuths[ig], current.azimuths[ic], p.max_triples, args.repeats)
     print(load())
 
