@@ -12,7 +12,7 @@ the CPU of this process and its waited-for children per pair) with --jobs 1 and 
 Ratios: the run's CPU per pair over the floor's (target 1.15), and --jobs 1 wall time over
 --jobs 2's (target 1.8 on an idle 2-core machine). A run also pays costs that do not grow with
 its pairs (the worker server's imports, planning, the run's records, opening the databases in
-each worker): "fixed s" is the CPU of a one-goal run of the method beyond its own floor (the
+each worker): "fixed CPU" (s) is the CPU of a one-goal run of the method beyond its own floor (the
 median of three), and "marginal" the run's CPU per pair without it over the floor's, at
 --jobs 1 / --jobs 2. The load average before and after each line says how busy the machine
 was.
@@ -36,7 +36,7 @@ from homebench.evaluation.executors import PRELOAD
 from homebench.evaluation.isolation import Crash, WorkerPool
 from homebench.evaluation.jobs import _GridViews
 from homebench.evaluation.plan import HomeJob, ImageTask, make_plan
-from homebench.evaluation.runner import Execution, run_plan
+from homebench.evaluation.runner import Execution, RunOutcome, run_plan
 from homebench.evaluation.sources import load_view, open_source, prepare_sources
 
 METHODS = ("warping", "min-warping", "sift", "klt-sector")
@@ -45,16 +45,22 @@ DATABASE = "synth-original"
 FIXED_REPEATS = 3
 
 
-def _config(output: Path, method: str, goals: int) -> RunConfig:
+def run_config(output: Path, method: str, goals: object) -> RunConfig:
+    """A run of ``method`` on the generated database, condition original-original; ``goals``
+    as a config's (``{"random": n, "seed": 1}``, ``"all"``)."""
     return RunConfig.model_validate(
         {
             "output": str(output),
             "databases": {"original": DATABASE},
             "conditions": ["original-original"],
-            "goals": {"random": goals, "seed": 1},
+            "goals": goals,
             "methods": [{"method": method}],
         }
     )
+
+
+def _random_goals(goals: int) -> dict[str, int]:
+    return {"random": goals, "seed": 1}
 
 
 def _floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
@@ -91,23 +97,27 @@ def _floor_in_worker(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
     return result
 
 
-def _run(config: RunConfig, jobs: int) -> tuple[float, float]:
-    """Wall and CPU seconds (this process and its workers) of one fresh run."""
+def timed_run(config: RunConfig, jobs: int) -> tuple[RunOutcome, float, float]:
+    """One fresh run: its outcome, and its wall and CPU seconds (this process and its
+    workers); SystemExit if a job failed."""
     wall, cpu = time.perf_counter(), cpu_with_children()
     outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
     wall, cpu = time.perf_counter() - wall, cpu_with_children() - cpu
     if outcome.failures:
         raise SystemExit(f"{len(outcome.failures)} job(s) failed: {outcome.failures[0].error}")
-    return wall, cpu
+    return outcome, wall, cpu
 
 
 def _measure(folder: Path, method: str, goals: int) -> tuple[float, int, dict[int, tuple]]:
     """The floor's CPU seconds and pair count of a plan of ``goals`` goals, and the wall and
     CPU seconds of fresh runs of it with --jobs 1 and 2."""
-    config = _config(folder / "plan", method, goals)
+    config = run_config(folder / "plan", method, _random_goals(goals))
     plan = make_plan(config, prepare_sources(config, 2), Path("bench"))
     floor, pairs = _floor_in_worker(plan.home)
-    runs = {n: _run(_config(folder / f"jobs{n}", method, goals), n) for n in (1, 2)}
+    runs = {
+        n: timed_run(run_config(folder / f"jobs{n}", method, _random_goals(goals)), n)[1:]
+        for n in (1, 2)
+    }
     return floor, pairs, runs
 
 

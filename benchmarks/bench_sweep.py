@@ -17,29 +17,14 @@ import argparse
 import json
 import os
 import tempfile
-import time
 from pathlib import Path
 
-from timing import cpu_with_children
+from bench_run import DATABASE, run_config, timed_run
 
-from homebench.config import RunConfig
 from homebench.data.catalog import ensure_generated
 from homebench.evaluation.plan import Plan
-from homebench.evaluation.runner import Execution, run_plan
 
 METHODS = ("warping", "sift", "klt-sector")
-
-
-def _config(output: Path, method: str, goals: object) -> RunConfig:
-    return RunConfig.model_validate(
-        {
-            "output": str(output),
-            "databases": {"original": "synth-original"},
-            "conditions": ["original-original"],
-            "goals": goals,
-            "methods": [{"method": method}],
-        }
-    )
 
 
 def _method_seconds(plan: Plan, run_dir: Path) -> float:
@@ -56,12 +41,8 @@ def _method_seconds(plan: Plan, run_dir: Path) -> float:
 def _timed_run(method: str, goals: object, jobs: int) -> tuple[float, float, float, int, int]:
     """Wall and CPU seconds, the method's own seconds, home jobs and pairs of one fresh run."""
     with tempfile.TemporaryDirectory() as folder:
-        config = _config(Path(folder) / "run", method, goals)
-        cpu, start = cpu_with_children(), time.perf_counter()
-        outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
-        seconds, cpu = time.perf_counter() - start, cpu_with_children() - cpu
-        if outcome.failures:
-            raise SystemExit(f"{method}: {len(outcome.failures)} job(s) failed")
+        config = run_config(Path(folder) / "run", method, goals)
+        outcome, seconds, cpu = timed_run(config, jobs)
         pairs = sum(len(job.currents) for job in outcome.plan.home)
         own = _method_seconds(outcome.plan, config.output)
         return seconds, cpu, own, len(outcome.plan.home), pairs
@@ -81,7 +62,7 @@ def main() -> None:
     parser.add_argument("--full", action="store_true", help="also time all-pairs runs (--jobs 2)")
     parser.add_argument("--goals", type=int, default=6, help="goals of the throughput runs")
     args = parser.parse_args()
-    ensure_generated("synth-original", jobs=2)
+    ensure_generated(DATABASE, jobs=2)
     goals = {"random": args.goals, "seed": 1}
     print(
         f"{'method':<12} {'jobs':>4} {'pairs':>6} {'wall s':>8} {'CPU s':>7} {'/ floor':>7} "
