@@ -129,6 +129,29 @@ def test_source_closure_follows_imports_within_the_package_only(
     ]
 
 
+def test_an_optional_package_that_is_not_installed_is_no_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The README's install has no extras: a module that imports an optional package in a
+    function (``dask`` in the executors) still has a code version."""
+    _package(
+        tmp_path,
+        {
+            "toypkg/__init__.py": "",
+            "toypkg/method.py": """
+                from toypkg import base
+
+                def on_a_cluster():
+                    from not_installed_optional.distributed import Client
+                    import not_installed_optional.sub
+            """,
+            "toypkg/base.py": "X = 1\n",
+        },
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert sorted(source_closure("toypkg.method")) == ["toypkg.base", "toypkg.method"]
+
+
 def test_builtin_code_version_is_the_package_version_and_a_source_hash() -> None:
     version = code_version(registry.get("warping"))
     assert version.startswith("homebench ")

@@ -48,6 +48,7 @@ def _imports(name: str, path: Path) -> set[str]:
     """Module names the source of module ``name`` (at ``path``) imports, anywhere in it."""
     tree = ast.parse(path.read_bytes(), filename=str(path))
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    top = name.partition(".")[0]
     found: set[str] = set()
     for node in _statements(tree):
         if isinstance(node, ast.Import):
@@ -56,6 +57,9 @@ def _imports(name: str, path: Path) -> set[str]:
             parts = package.split(".")
             parent = parts[: len(parts) - node.level + 1] if node.level else []
             base = ".".join([*parent, *([node.module] if node.module else [])])
+            if base.partition(".")[0] != top:  # another package: never looked up (it may
+                found.add(base)  # be an optional one that is not installed)
+                continue
             submodules = {f"{base}.{alias.name}" for alias in node.names}
             modules = {m for m in submodules if _module_file(m) is not None}
             found.update(modules)
