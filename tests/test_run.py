@@ -70,7 +70,8 @@ def test_run_writes_tables_with_sensible_metrics(tmp_path: Path, arena_manifest:
     assert len(pairs) == 2 * 2 * 19  # methods x goals x (20 positions - the goal)
     assert set(pairs["method"]) == {"warping", "warping-coarse"}
     assert (pairs["distance_m"] > 0).all()
-    assert (pairs[TIME_COLUMNS] >= 0).all().all()
+    times = pairs[TIME_COLUMNS]  # a worker's first call of a method has none: one-off costs
+    assert ((times >= 0) | times.isna()).all().all() and times.notna().mean().min() > 0.9
     summary = pd.read_csv(run_dir / "tables" / "summary.csv")
     # the arena is close to warping's equal-distance assumption: errors are small
     assert (summary["mean_ae_deg"] < 30).all()

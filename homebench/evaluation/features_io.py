@@ -27,6 +27,7 @@ import dataclasses
 import functools
 import io
 import json
+import math
 import zipfile
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -51,7 +52,8 @@ BUILT_IN = (SiftFeatures, KltFeatures, PanoramaGeometry, CatadioptricGeometry)
 
 @dataclass(frozen=True)
 class StoredFeatures:
-    """What a feature file holds: the method's features and the time ``describe`` took."""
+    """What a feature file holds: the method's features and the time ``describe`` took (ms;
+    NaN for a process's first describe, see :func:`~homebench.evaluation.jobs.timed`)."""
 
     features: Any
     describe_ms: float
@@ -162,7 +164,7 @@ def save_features(path: Path, key: str, features: Any, describe_ms: float) -> No
     structure = {
         "format": FORMAT,
         "key": key,
-        "describe_ms": describe_ms,
+        "describe_ms": None if math.isnan(describe_ms) else describe_ms,
         "features": encoder.encode(features),
     }
     arrays = {f"a{k}": array for k, array in enumerate(encoder.arrays)}
@@ -215,6 +217,11 @@ class _RecentFiles:
 _RECENT = _RecentFiles(RECENT_BYTES)
 
 
+def _time(value: Any) -> float:
+    """A stored describe time: ms, or NaN where none was taken (null in the file)."""
+    return math.nan if value is None else float(value)
+
+
 def load_features(path: Path, key: str, from_disk: bool = False) -> StoredFeatures:
     """The features stored under ``key`` in ``path``; DataError naming the file when it is
     missing, corrupt, of another key or format, or holds anything but plain data. Features
@@ -227,7 +234,7 @@ def load_features(path: Path, key: str, from_disk: bool = False) -> StoredFeatur
         if structure.get("format") != FORMAT or structure.get("key") != key:
             raise ValueError("written for other inputs")
         features = _Decoder(arrays).decode(structure["features"])
-        return StoredFeatures(features, float(structure["describe_ms"]))
+        return StoredFeatures(features, _time(structure["describe_ms"]))
     except FileNotFoundError:
         raise DataError(f"{path}: feature file missing") from None
     except (
