@@ -143,3 +143,52 @@ def test_route_findings():
     assert table.loc["odometry grows", "effect"] == pytest.approx(10.0, rel=0.1)  # cm per m
     growing = findings_table(route_findings(_routes(0.005))).set_index("finding")
     assert growing.loc["visual flat", "verdict"] == "opposite"  # 5 mm per m
+
+
+def _paper_run(folder, world: str = ""):
+    """A run folder of seed 001's experiment that sweeps no style (as a manifest database's,
+    or ``configs/sift_paper.yaml``): P best, W worst."""
+    from test_report_runs import FakeMethod, write_fake_run
+
+    methods = [FakeMethod("P", 5.0), FakeMethod("PN", 12.0), FakeMethod("W", 25.0)]
+    goals = ((0, 0), (1, 2), (2, 3), (3, 4), (0, 4), (3, 0))
+    return write_fake_run(folder, methods, goals, conditions=CONDITIONS, world=world)
+
+
+def test_findings_of_runs_that_sweep_no_style_one_or_several(tmp_path) -> None:
+    """The command crashed on every run without ``styles:`` (the run folder's name was taken
+    for a style)."""
+    from click.testing import CliRunner
+
+    from homebench.cli import main
+
+    one = _paper_run(tmp_path / "bielefeld")
+    result = CliRunner().invoke(main, ["findings", str(one)])
+    assert result.exit_code == 0, result.output
+    assert "| bielefeld | P errs less than W under original-original" in result.stdout
+    other = _paper_run(tmp_path / "own-room", world="own")
+    result = CliRunner().invoke(main, ["findings", str(one), str(other)])
+    assert result.exit_code == 0, result.output
+    rows = [line for line in result.stdout.splitlines()[4:] if line.startswith("|")]
+    places = {row.split("|")[1].strip() for row in rows}
+    assert places == {"bielefeld", "own-room"}
+    again = _paper_run(tmp_path / "copy")  # the same images as bielefeld: goals pooled twice
+    result = CliRunner().invoke(main, ["findings", str(one), str(other), str(again)])
+    assert result.exit_code == 0  # each run that sweeps no style is a place of its own
+
+
+def test_runs_pooled_in_one_style_that_repeat_a_world_are_refused(tmp_path) -> None:
+    import json
+
+    from click.testing import CliRunner
+
+    from homebench.cli import main
+
+    runs = [_paper_run(tmp_path / name) for name in ("a", "b")]
+    for run in runs:  # both swept the posters style, in the same world
+        for job in (run / "jobs").iterdir():
+            record = json.loads(job.read_text())
+            job.write_text(json.dumps(record | {"style": "posters", "seed": 0}))
+    result = CliRunner().invoke(main, ["findings", *map(str, runs)])
+    assert result.exit_code == 2, result.output
+    assert "runs a and b both hold" in result.stderr and "give each world once" in result.stderr

@@ -184,3 +184,21 @@ def test_image_tasks_are_equal_and_hash_alike_exactly_when_their_inputs_are(
     ]
     assert all(task != other and task.inputs != other.inputs for other in others)
     assert len({task, same, *others}) == 1 + len(others)
+
+
+def test_a_real_sets_database_key_is_its_images_content_not_its_folder(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """Two copies of a database in other folders are the same database (runs over them pair
+    up in ``compare``); an edited image makes another."""
+
+    def database_key(manifest: Path) -> str:
+        config = RunConfig.model_validate(arena_config(tmp_path, manifest))
+        return next(iter(prepare_sources(config, 1).values())).database_key
+
+    copy = tmp_path / "copy"
+    shutil.copytree(arena_manifest.parent, copy)
+    assert database_key(copy / "manifest.yaml") == database_key(arena_manifest)
+    image = copy / "pano" / "p0-0.png"
+    write_png(image, 255 - read_grey(image))
+    assert database_key(copy / "manifest.yaml") != database_key(arena_manifest)

@@ -28,13 +28,15 @@ STARTED = "2024-05-06T07:08:09+00:00"
 
 @dataclass(frozen=True)
 class FakeMethod:
-    """Estimates = true world direction + ``offset_deg``; none at ``missing`` positions."""
+    """Estimates = true world direction + ``offset_deg``; none at ``missing`` positions. A
+    compass (``gives_direction`` False) answers only a rotation, ``offset_deg`` off."""
 
     label: str
     offset_deg: float = 0.0
     missing: frozenset[tuple[int, int]] = field(default_factory=frozenset)
     home_ms: float = 1.0
     describe_ms: float = 2.0
+    gives_direction: bool = True
 
 
 def _rows(method: FakeMethod, goal: tuple[int, int]) -> list[dict[str, object]]:
@@ -45,8 +47,9 @@ def _rows(method: FakeMethod, goal: tuple[int, int]) -> list[dict[str, object]]:
             continue
         xy = GRID.position(i, j)
         truth_world = float(world_direction(xy, goal_xy))
-        has = (i, j) not in method.missing
-        estimate_world = truth_world + math.radians(method.offset_deg)
+        has = (i, j) not in method.missing and method.gives_direction
+        offset = math.radians(method.offset_deg)
+        estimate_world = truth_world + offset
         rows.append(
             {
                 "current_i": i,
@@ -57,7 +60,7 @@ def _rows(method: FakeMethod, goal: tuple[int, int]) -> list[dict[str, object]]:
                 "estimate_world": estimate_world if has else None,
                 "truth": float(wrap_angle(truth_world - HEADING)),
                 "ae": float(angular_error(estimate_world, truth_world)) if has else None,
-                "rotation_estimate": 0.0,
+                "rotation_estimate": 0.0 if method.gives_direction else offset,
                 "distance_m": float(np.hypot(*(goal_xy - xy))),
                 "n_landmarks": 10 if has else 0,
                 "route_views": 0,
@@ -77,8 +80,10 @@ def write_fake_run(
     goals: Sequence[tuple[int, int]] = ((1, 2), (2, 3)),
     conditions: Sequence[str] = ("a-a",),
     name: str = "fake-run",
+    world: str = "",
 ) -> Path:
-    """Write a run folder under ``folder`` and return it."""
+    """Write a run folder under ``folder`` and return it. Database ``x`` has the identity
+    ``db-x-<world>``: runs of another ``world`` hold other images."""
     (folder / "jobs").mkdir(parents=True, exist_ok=True)
     config = {
         "name": name,
@@ -121,6 +126,9 @@ def write_fake_run(
                     "params": {},
                     "current_database": condition.split("-")[0],
                     "goal_database": condition.split("-")[1],
+                    "current_database_key": f"db-{condition.split('-')[0]}-{world}",
+                    "goal_database_key": f"db-{condition.split('-')[1]}-{world}",
+                    "gives_direction": method.gives_direction,
                     "goal_i": goal[0],
                     "goal_j": goal[1],
                     "goal_heading": HEADING,

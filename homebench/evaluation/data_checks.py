@@ -18,10 +18,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from homebench.data import catalog
+from homebench.data.file_hashes import file_hashes
 from homebench.data.fingerprint import matches
 from homebench.data.manifest import Manifest
 from homebench.errors import UnknownDatabaseError
-from homebench.evaluation.image_hashes import file_hashes
 from homebench.evaluation.sources import Source, open_source
 
 

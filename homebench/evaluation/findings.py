@@ -14,9 +14,13 @@ A claim of *no* effect ("does not grow by more than ...") is an equivalence clai
 the whole interval lies below its bound, is opposite when the whole interval lies above it,
 and is inconclusive otherwise (no p-value).
 
-Units of replication: for grid runs the goal of a world, (seed, goal_i, goal_j) — pairs of one
+Units of replication: for grid runs the goal of a world, (world, goal_i, goal_j) — pairs of one
 goal are not independent; for route runs the trial (each drives with its own noise; trials
-share their world, so the interval speaks for that world's place, not for all places).
+share their world, so the interval speaks for that world's place, not for all places). Tables
+may say which world each row belongs to (an int column ``world``, e.g. a run and its swept
+style and seed) and where its findings are tested (a column ``place``, Holm within each);
+without them the swept (style, seed) is the world and the style the place (see
+:func:`with_places`).
 
 Missing estimates: a pair without an estimate enters an AE effect as 90 deg (what a random
 guess costs), so a method cannot win by abstaining; pairs that failed (an ``error``) are left
@@ -34,7 +38,7 @@ import numpy as np
 import pandas as pd
 
 from homebench.evaluation.metrics import with_missing
-from homebench.evaluation.results import goal_labels
+from homebench.evaluation.results import world_codes
 from homebench.evaluation.statistics import (
     LEVEL,
     N_BOOT,
@@ -48,8 +52,7 @@ from homebench.hashing import derived_seed
 
 Verdict = Literal["holds", "opposite", "not significant", "inconclusive"]
 ALPHA = 0.05
-PAIR_KEY = ["seed", "goal_i", "goal_j", "current_i", "current_j"]
-START_KEY = ["seed", "goal_i", "goal_j", "start_i", "start_j"]
+PAIR_KEY = ["world", "goal_i", "goal_j", "current_i", "current_j"]
 #: Distances of seed 001's far-range finding (Fig. 9: 360 and 390 cm bins), metres.
 FAR_RANGE_M = 3.45
 #: Seed 000's "accuracy does not depend on the distance travelled", as a bound on the growth
@@ -133,8 +136,7 @@ def _by_pair(pairs: pd.DataFrame, condition: str, method: str, column: str) -> p
     rows = pairs[(pairs["condition"] == condition) & (pairs["method"] == method)]
     if "error" in rows.columns:
         rows = rows[rows["error"].isna()]
-    keys = rows[PAIR_KEY].copy()
-    keys["seed"] = keys["seed"].astype("Float64").fillna(-1).astype(np.int64)
+    keys = rows[PAIR_KEY].astype(np.int64)
     values = rows[column].to_numpy(dtype=float)
     return pd.Series(values, index=pd.MultiIndex.from_frame(keys), name=f"{method}.{column}")
 
@@ -155,9 +157,8 @@ def _aligned(series: list[pd.Series]) -> tuple[list[np.ndarray], np.ndarray, np.
 def _success_by_goal(starts: pd.DataFrame, condition: str, method: str) -> pd.Series:
     """Return ratio per goal (seed, goal_i, goal_j) of one condition and method."""
     rows = starts[(starts["condition"] == condition) & (starts["method"] == method)]
-    labels = pd.DataFrame(goal_labels(rows), columns=PAIR_KEY[:3], index=rows.index)
     success = rows["success"].astype(float)
-    return success.groupby([labels[c] for c in PAIR_KEY[:3]]).mean().rename(method)
+    return success.groupby([rows[c] for c in PAIR_KEY[:3]]).mean().rename(method)
 
 
 # ---------------------------------------------------------------- seed 001
@@ -276,9 +277,8 @@ def _slope_replicates(x: np.ndarray, y: np.ndarray, resampler: GoalResampler) ->
 
 
 def _route_claims(routes: pd.DataFrame, level: float, n_boot: int) -> list[_Tested]:
-    seeds = routes["seed"].astype("Float64").fillna(-1).to_numpy(dtype=np.int64)
     trial = pd.factorize(routes["trial"])[0]
-    labels = np.column_stack([seeds, trial])
+    labels = np.column_stack([routes["world"].to_numpy(dtype=np.int64), trial])
     length = routes["length_m"].to_numpy(dtype=float)
     visual = 100.0 * routes["visual_error_m"].to_numpy(dtype=float)
     odometry = 100.0 * routes["odometry_error_m"].to_numpy(dtype=float)
@@ -352,20 +352,30 @@ def _judge(tested: list[_Tested], place: str, alpha: float) -> list[Finding]:
     return found
 
 
+def with_places(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with the columns ``world`` (int) and ``place`` (str) where it has none: the
+    swept world (:func:`~homebench.evaluation.results.world_codes`) and its style, "all"
+    without a style."""
+    if "world" not in frame.columns:
+        frame = frame.assign(world=world_codes(frame))
+    if "place" not in frame.columns:
+        style = frame["style"] if "style" in frame.columns else pd.Series(None, frame.index)
+        frame = frame.assign(place=style.astype("object").where(style.notna(), "all"))
+    return frame
+
+
 def _by_place(
     frames: list[pd.DataFrame],
     test: Callable[..., list[_Tested]],
     alpha: float,
     *args: object,
 ) -> list[Finding]:
-    """``test`` per place (the ``style`` column's values when present), Holm within each."""
-    first = frames[0]
-    if "style" not in first.columns or first["style"].isna().all():
-        return _judge(test(*frames, *args), "all", alpha)
+    """``test`` per place (:func:`with_places`), Holm within each."""
+    frames = [with_places(f) for f in frames]
     found = []
-    for style in sorted(first["style"].dropna().unique()):
-        subset = [f[f["style"] == style] for f in frames]
-        found += _judge(test(*subset, *args), str(style), alpha)
+    for place in sorted(frames[0]["place"].unique()):
+        subset = [f[f["place"] == place] for f in frames]
+        found += _judge(test(*subset, *args), str(place), alpha)
     return found
 
 

@@ -52,7 +52,9 @@ from homebench.methods.visual_compass import (
     whole_columns,
 )
 
-RESULT_FORMAT = 4  # 2: the swept world seed; 3: rows carry an "error"; 4: the swept style
+#: 2: the swept world seed; 3: rows carry an "error"; 4: the swept style; 5: the databases'
+#: keys.
+RESULT_FORMAT = 5
 
 
 #: The columns of a pair's row, in order; a failed pair has its ``error`` and no answer.
@@ -375,6 +377,8 @@ def _home(job: HomeJob, run_dir: Path) -> None:
         "code_version": job.method.code,
         "current_database": job.currents[0].source.alias,
         "goal_database": job.goal.source.alias,
+        "current_database_key": job.currents[0].source.database_key,
+        "goal_database_key": job.goal.source.database_key,
         "goal_i": job.goal.i,
         "goal_j": job.goal.j,
         "goal_heading": goal_heading,

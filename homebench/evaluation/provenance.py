@@ -4,8 +4,8 @@ The resolved config is the config as run: the number of workers and the job limi
 every method parameter with its default filled in. The environment holds the homebench source's
 git commit (and whether its files differ from it; None when the package is not a git checkout),
 host, platform, CPU model, Python, the version of every installed distribution, and for a grid
-run each method's distribution, version and code version, each database's identity and manifest
-hash, the command line and the options that overrode the config.
+run each method's distribution, version and code version, each database's identity, key (what
+its images hold) and manifest hash, the command line and the options that overrode the config.
 """
 
 from __future__ import annotations
@@ -176,6 +176,7 @@ def run_sections(
         swept = "/".join(str(v) for v in world if v is not None)
         databases[f"{alias}@{swept}" if swept else alias] = {
             "identity": source.identity,
+            "key": source.database_key,
             "locator": source.locator,
             "manifest_sha256": stable_hash(manifest, 64),
         }

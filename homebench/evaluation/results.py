@@ -50,13 +50,18 @@ from homebench.hashing import derived_seed
 PLAN_FILE = "plan.json"
 GROUP = ["condition", "method"]
 #: The factors of a pair (every one a column, so tables can group by any), then its position.
-#: ``style`` and ``seed`` are the swept world's (empty without a sweep).
+#: ``style`` and ``seed`` are the swept world's (empty without a sweep);
+#: ``current_database_key`` and ``goal_database_key`` say what the two databases hold (see
+#: :class:`~homebench.evaluation.sources.Source`): pairs of two runs are the same pairs only
+#: when these are.
 LEADING = [
     "style",
     "seed",
     "condition",
     "current_database",
     "goal_database",
+    "current_database_key",
+    "goal_database_key",
     "method",
     "method_name",
     "goal_i",
@@ -64,8 +69,9 @@ LEADING = [
     "current_i",
     "current_j",
 ]
-#: The factors of a goal's job (the keys of the goal and return-ratio tables).
-GOAL_FACTORS = LEADING[:-2]
+#: The factors of a goal's job (the keys of the goal and return-ratio tables; the databases'
+#: keys follow from the style, seed and condition).
+GOAL_FACTORS = [c for c in LEADING[:-2] if not c.endswith("_database_key")]
 #: Columns of the per-start return-ratio outcomes (``rr_starts.csv``).
 RR_START_COLUMNS = [
     *GOAL_FACTORS,
@@ -228,15 +234,20 @@ def _start_table(outcomes: list[tuple[dict[str, Any], dict[str, np.ndarray]]]) -
     return table[RR_START_COLUMNS]
 
 
-def goal_labels(frame: pd.DataFrame) -> np.ndarray:
-    """The goal of each row: (world, goal_i, goal_j), shape (n, 3) int. ``world`` numbers the
-    swept (style, seed): the seed plus 2**20 times the style's place in
-    :data:`~homebench.data.synth.spec.STYLES` (plus one); -1 without a sweep."""
+def world_codes(frame: pd.DataFrame) -> np.ndarray:
+    """The swept world of each row, shape (n,) int: the seed plus 2**20 times the style's
+    place in :data:`~homebench.data.synth.spec.STYLES` (plus one); -1 without a sweep."""
     seed = frame["seed"].astype("Float64").fillna(-1).to_numpy(dtype=np.int64)
     if "style" in frame.columns:
         style = frame["style"].map(lambda s: STYLES.index(s) + 1 if isinstance(s, str) else 0)
         seed = seed + (style.to_numpy(dtype=np.int64) << 20)
-    return np.column_stack([seed, frame["goal_i"], frame["goal_j"]]).astype(np.int64)
+    return seed
+
+
+def goal_labels(frame: pd.DataFrame) -> np.ndarray:
+    """The goal of each row: (world, goal_i, goal_j), shape (n, 3) int; ``world`` from
+    :func:`world_codes`."""
+    return np.column_stack([world_codes(frame), frame["goal_i"], frame["goal_j"]]).astype(np.int64)
 
 
 def cell_resampler(frame: pd.DataFrame, *cell: object) -> GoalResampler:

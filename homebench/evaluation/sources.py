@@ -18,6 +18,7 @@ from pathlib import Path
 from homebench.config import DatabaseRef, RunConfig, SweptWorld
 from homebench.data import catalog
 from homebench.data.database import GridDatabase
+from homebench.data.file_hashes import file_hashes
 from homebench.data.generate import Generation, generate_many
 from homebench.data.manifest import KINDS, Manifest
 from homebench.data.synth.spec import WorldSpec
@@ -32,7 +33,11 @@ from homebench.views import ImageKind, View
 
 @dataclass(frozen=True)
 class Source:
-    """One database of a run. ``identity`` names its images in every cache and job key.
+    """One database of a run. ``identity`` names its images in every cache and job key (a
+    generated set's spec key, a real set's folder: each image's content is in the keys too).
+    ``database_key`` says what the database holds, wherever it is: the manifest's name and the
+    spec key, or for a real set the key of its images' content (:func:`content_key`); runs
+    hold the same pairs only where these are equal.
 
     ``locator`` is what :func:`homebench.data.catalog.resolve` takes (a known name, a manifest
     file or a database folder) and ``path`` the folder of a real set's images, if given.
@@ -40,6 +45,7 @@ class Source:
 
     alias: str
     identity: str
+    database_key: str
     locator: str
     path: Path | None
     grid: Grid
@@ -91,17 +97,19 @@ def _prepare(
     path = ref.path
     database = catalog.resolve(locator, None if generated else path)
     manifest = database.manifest
-    database.check_images(_kinds_read(config, alias, manifest))
+    kinds = _kinds_read(config, alias, manifest)
+    database.check_images(kinds)
     generator = manifest.generator
-    identity = (
-        f"{manifest.name}-{generator.spec.key()}"
-        if generator is not None
-        else f"{manifest.name}-{stable_hash(str(database.root.resolve()), 12)}"
-    )
+    if generator is not None:
+        identity = database_key = f"{manifest.name}-{generator.spec.key()}"
+    else:
+        identity = f"{manifest.name}-{stable_hash(str(database.root.resolve()), 12)}"
+        database_key = f"{manifest.name}-{content_key(database, kinds)}"
     needs_unfold = "unfolded" not in manifest.kinds
     return Source(
         alias=alias,
         identity=identity,
+        database_key=database_key,
         locator=locator,
         path=path,
         grid=database.grid,
@@ -109,6 +117,16 @@ def _prepare(
         seed=generator.spec.seed if generator is not None else None,
         style=generator.spec.style if generator is not None else None,
     )
+
+
+def content_key(database: GridDatabase, kinds: tuple[ImageKind, ...]) -> str:
+    """16 hex digits naming what a real set's images of ``kinds`` hold (their sha256s, by
+    position): two copies of a set in other folders have the same key, an edited image
+    another. Files are hashed once (:func:`~homebench.data.file_hashes.file_hashes`)."""
+    paths = {(kind, i, j): database.path(i, j, kind) for kind in kinds for i, j in
+             database.grid.indices()}  # fmt: skip
+    sums = file_hashes(paths.values())
+    return stable_hash([(*position, sums[path]) for position, path in paths.items()], 16)
 
 
 def _kinds_read(config: RunConfig, alias: str, manifest: Manifest) -> tuple[ImageKind, ...]:

@@ -3,8 +3,9 @@
 Grid runs of seed 001's experiment (methods labelled P, PN, W; conditions original-original,
 original-arboreal, original-day, or other labels given) give its findings; route runs give seed
 000's. Several run folders of one kind are pooled; the place of a finding is the swept style
-(``styles:`` in the config), or the run folder's name for a run that sweeps none, or the world
-style of a route run's config.
+(``styles:`` in the config), or the run's label (its folder's name, see
+:func:`~homebench.report.run_set.run_labels`) for a grid run that sweeps none, or the world
+style of a route run's config. Each run's worlds are its own units of replication.
 """
 
 from __future__ import annotations
@@ -23,38 +24,75 @@ from homebench.evaluation.findings import (
     route_findings,
     sift_findings,
 )
+from homebench.evaluation.results import world_codes
 from homebench.experiments.route.config import KLT_SECTOR
 from homebench.report.route_report import load_route_run
 from homebench.report.run_data import grid_run, read_run_info
+from homebench.report.run_set import run_labels
 from homebench.report.tables import FIXED0, FIXED2, FIXED3, TableView, make_view
 
 
 def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The pairs and return-ratio starts of grid runs, each row with its ``world`` (a run's
+    swept world: runs never share one) and ``place`` (the swept style; for a run that sweeps
+    none, the run's label). DataError for a run without results, or for runs that hold the
+    same pairs of the same images in one place (a goal pooled twice would count as two)."""
     pairs, starts = [], []
-    for run_dir in run_dirs:
+    for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
         tables = grid_run(read_run_info(run_dir)).tables
         if tables.pairs.empty:
             raise DataError(f"{run_dir}: the run has no results")
-        place = tables.pairs["style"].astype("object")
-        if place.isna().all():  # no swept style: the run is the place
-            tables.pairs["style"] = Path(run_dir).name
-            tables.rr_starts["style"] = Path(run_dir).name
-        pairs.append(tables.pairs)
-        starts.append(tables.rr_starts)
-    return pd.concat(pairs, ignore_index=True), pd.concat(starts, ignore_index=True)
+        pairs.append(_placed(tables.pairs, k, label))
+        starts.append(_placed(tables.rr_starts, k, label))
+    both = pd.concat([*pairs, *starts], ignore_index=True)["world"]
+    codes = dict(zip(both, pd.factorize(both, sort=True)[0], strict=True))
+    pairs_table, starts_table = (
+        pd.concat(frames, ignore_index=True).assign(world=lambda f: f["world"].map(codes))
+        for frames in (pairs, starts)
+    )
+    _refuse_repeated_pairs(pairs_table)
+    return pairs_table, starts_table
+
+
+def _placed(frame: pd.DataFrame, run: int, label: str) -> pd.DataFrame:
+    """``frame`` of run number ``run`` with its ``run`` label, ``world`` key (text) and
+    ``place``."""
+    style = frame["style"].astype("object")
+    return frame.assign(
+        run=label,
+        world=[f"{run}/{code}" for code in world_codes(frame)],
+        place=style.where(style.notna(), label),
+    )
+
+
+def _refuse_repeated_pairs(pairs: pd.DataFrame) -> None:
+    """DataError naming two runs that hold a pair of the same images, method and condition
+    in one place."""
+    same = ["place", "condition", "method", "current_database_key", "goal_database_key", "goal_i",
+            "goal_j", "current_i", "current_j"]  # fmt: skip
+    twice = pairs[pairs.duplicated(same, keep=False)]
+    if twice.empty:
+        return
+    row = twice.iloc[0]
+    runs = sorted(set(twice.loc[(twice[same] == row[same]).all(axis=1), "run"]))
+    raise DataError(
+        f"findings: runs {runs[0]} and {runs[-1]} both hold {row['method']}'s pairs of goal "
+        f"({row['goal_i']}, {row['goal_j']}) under {row['condition']} in {row['place']}, on "
+        "the same images; give each world once (a goal counted twice would count as two)"
+    )
 
 
 def _route_table(run_dirs: Sequence[Path]) -> pd.DataFrame:
     frames = []
-    for run_dir in run_dirs:
+    for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
         run = load_route_run(read_run_info(run_dir))
         world = run.config.world
         frame = pd.DataFrame([trial.summary for trial in run.trials])
         # Seed 000's findings are klt-sector's: other methods of the run are left out.
-        klt = [label for label, name, _ in run.config.method_points() if name == KLT_SECTOR]
+        klt = [entry for entry, name, _ in run.config.method_points() if name == KLT_SECTOR]
         frame = frame[frame["method"].isin(klt)] if "method" in frame else frame
-        frame.insert(0, "seed", world.seed)
-        frame.insert(0, "style", world.style if run.config.database is None else run_dir.name)
+        frame.insert(0, "world", k)  # a route run drives in one world
+        frame.insert(0, "place", world.style if run.config.database is None else label)
         frames.append(frame)
     return pd.concat(frames, ignore_index=True)
 

@@ -21,7 +21,7 @@ from homebench.report.run_data import RunData, grid_run, read_run_info
 #: The environment.json fields compared (flat keys).
 ENVIRONMENT_FIELDS = re.compile(
     r"(homebench|versions\.homebench|git\.(commit|dirty)|methods\..+\.code_version"
-    r"|databases\..+\.manifest_sha256)"
+    r"|databases\..+\.(manifest_sha256|key))"
 )
 _ABSENT = object()
 
