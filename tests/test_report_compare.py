@@ -202,3 +202,21 @@ def test_runs_that_cannot_be_compared_are_one_line_errors(runs, tmp_path: Path) 
         result = CliRunner().invoke(main, ["compare", str(runs[0]), str(other)])
         assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1
         assert f"{other}: {message}" in result.stderr
+
+
+def test_runs_on_other_databases_are_compared_unpaired_and_say_so(tmp_path: Path) -> None:
+    """The same grid positions of two worlds are not the same pairs: a paired test on them
+    would be wrong, whatever the grid indices say."""
+    a = write_fake_run(tmp_path / "a", [FakeMethod("m", 10.0)], GOALS6, world="one")
+    b = write_fake_run(tmp_path / "b", [FakeMethod("m", 40.0)], GOALS6, world="two")
+    comparison = compare_runs([a, b])
+    diff = _cell(comparison, "m", "b", "mean_ae_deg")
+    assert diff["test"] == "unpaired" and diff["change"] == pytest.approx(30.0)
+    assert diff["p"] == pytest.approx(2 / math.comb(12, 6))
+    assert any(
+        w.startswith("b: m under a-a: other databases than a's (") and "compared unpaired" in w
+        for w in comparison.warnings
+    ), comparison.warnings
+    same = write_fake_run(tmp_path / "c", [FakeMethod("m", 40.0)], GOALS6, world="one")
+    assert _cell(compare_runs([a, same]), "m", "c", "mean_ae_deg")["test"] == "paired"
+

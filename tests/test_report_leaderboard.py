@@ -93,3 +93,27 @@ def test_cli_writes_the_table_file_and_an_index_page(runs, tmp_path: Path) -> No
     assert "<li>second: no report</li>" in index
     result = CliRunner().invoke(main, ["leaderboard", str(runs[0]), "--metric", "speed"])
     assert result.exit_code == 2
+
+
+def test_columns_are_keyed_by_world_and_the_best_is_marked_within_a_column(
+    tmp_path: Path,
+) -> None:
+    """A quick-start world and a full set both have an "a-a" condition: they are two columns,
+    each with its own best."""
+    small = write_fake_run(tmp_path / "small", [FakeMethod("warping", 20.0)], world="small")
+    large = write_fake_run(
+        tmp_path / "large", [FakeMethod("sift", 5.0), FakeMethod("klt", 8.0)], world="large"
+    )
+    frame = leaderboard([small, large]).view.frame
+    assert list(frame.columns) == ["method", "a-a @ db-a-small", "a-a @ db-a-large"]
+    cells = frame.set_index("method")
+    assert cells.loc["warping", "a-a @ db-a-small"].endswith(" *")
+    assert cells.loc["sift", "a-a @ db-a-large"].endswith(" *")
+    assert not cells.loc["klt", "a-a @ db-a-large"].endswith(" *")
+    assert cells.loc["warping", "a-a @ db-a-large"] == "--"
+    # runs over the same databases share their columns, named by condition alone
+    again = write_fake_run(tmp_path / "again", [FakeMethod("min", 1.0)], world="large")
+    frame = leaderboard([large, again]).view.frame
+    assert list(frame.columns) == ["method", "a-a"]
+    assert frame.set_index("method").loc["min", "a-a"].endswith(" *")
+

@@ -7,15 +7,19 @@ Holm adjustment over the whole table (the AE test is shared by the mean AE and A
 counts once), and the describe and home times, whose change is the ratio run / reference
 (no test).
 
-``test`` says how the cell was compared. **paired** when the runs share pairs: their pairs
+``test`` says how the cell was compared. **paired** when the runs share pairs, measured on the
+same databases (:mod:`homebench.evaluation.worlds`: the same grid position of another world is
+another pair): their pairs
 (return-ratio starts) are matched on goal and current (start) position, as
 :mod:`homebench.evaluation.comparisons` matches two methods, and the matched ones compared with
 its paired goal bootstrap and sign-flip test; pairs of one run only (a missing job, a failed
 pair, other goals) are left out, and a warning says so. **unpaired** when they share none: an
 independent goal bootstrap of each run and a goal permutation test
-(:mod:`homebench.evaluation.unpaired`). A pair without an estimate counts as 90 deg, as in the
-method comparisons, so a method that stops answering shows; values are on the compared pairs
-and may differ from the summary's (mean AE over pairs with an estimate).
+(:mod:`homebench.evaluation.unpaired`); a warning says when that is because their databases
+differ. A method that gives no home direction has only its time ratios. A pair without an
+estimate counts as 90 deg, as in the method comparisons, so a method that stops answering
+shows; values are on the compared pairs and may differ from the summary's (mean AE over pairs
+with an estimate).
 Every resample draws from a seed derived from the cell: the same runs give the same numbers.
 
 ``--fail-if`` thresholds (:class:`Threshold`) bound the change per cell.
@@ -47,6 +51,7 @@ from homebench.evaluation.comparisons import (
 from homebench.evaluation.metrics import Missing, with_missing
 from homebench.evaluation.statistics import N_BOOT, Interval
 from homebench.evaluation.unpaired import unpaired_means
+from homebench.evaluation.worlds import world_keys, world_label
 from homebench.fileio import write_text_atomic
 from homebench.hashing import derived_seed
 from homebench.report.run_data import RunData
@@ -112,11 +117,13 @@ class Comparison:
 
 @dataclass(frozen=True)
 class _RunCells:
-    """A run's AE cells (pairs), return-ratio cells (starts) and times per cell."""
+    """A run's AE cells (pairs), return-ratio cells (starts), times and world keys per
+    cell."""
 
     ae: dict[CellKey, Cell]
     rr: dict[CellKey, Cell]
     times: dict[CellKey, dict[str, float]]
+    worlds: dict[CellKey, str]
 
 
 def _by_style(table: pd.DataFrame) -> Iterator[tuple[str, pd.DataFrame]]:
@@ -138,7 +145,9 @@ def _run_cells(run: RunData) -> _RunCells:
         style = record.get("style")
         key = ("" if pd.isna(style) else str(style), record["condition"], record["method"])
         times[key] = {t: float(record[t]) for t in TIMES}
-    return _RunCells(ae, rr, times)
+    pairs = tables.pairs.assign(style=tables.pairs["style"].astype("object"))
+    worlds = world_keys(pairs, ["style", "condition", "method"])
+    return _RunCells(ae, rr, times, {key: str(worlds.get(key, "")) for key in times})
 
 
 def compare_runs(
@@ -167,8 +176,15 @@ def compare_runs(
             cell = {"style": key[0], "condition": key[1], "method": key[2], "run": name}
             compared, (shared, n_reference, n_run) = _compare_cell(cells[0], found, key, n_boot)
             rows += [cell | row | {"test_id": f"{key}/{k}/{row['test_id']}"} for row in compared]
-            if 0 < shared < max(n_reference, n_run):
-                where = f" ({key[0]})" if key[0] else ""
+            where = f" ({key[0]})" if key[0] else ""
+            worlds = cells[0].worlds[key], found.worlds[key]
+            if worlds[0] != worlds[1]:
+                warnings.append(
+                    f"{name}: {key[2]} under {key[1]}{where}: other databases than "
+                    f"{names[0]}'s ({world_label(worlds[1])}, not {world_label(worlds[0])}): "
+                    "compared unpaired"
+                )
+            elif 0 < shared < max(n_reference, n_run):
                 warnings.append(
                     f"{name}: {key[2]} under {key[1]}{where} compared on the {shared} pairs it "
                     f"shares with {names[0]} (of {n_run}; {n_reference} in {names[0]})"
@@ -184,13 +200,18 @@ def _compare_cell(
     reference: _RunCells, run: _RunCells, key: CellKey, n_boot: int
 ) -> tuple[list[dict[str, object]], tuple[int, int, int]]:
     """The rows of one cell of ``run`` against ``reference`` (the metrics, then the times),
-    and how many pairs the two share, of how many in the reference and in the run."""
+    and how many pairs the two share, of how many in the reference and in the run: paired
+    when they share pairs of the same databases; no metric for a method that gives no home
+    direction (no AE cell in either run)."""
     seed = derived_seed("compare-runs", *key)
     ae = (reference.ae.get(key, EMPTY_CELL), run.ae.get(key, EMPTY_CELL))
     rr = (reference.rr.get(key, EMPTY_CELL), run.rr.get(key, EMPTY_CELL))
-    shared = len(matched(*ae)[0])
+    shared = len(matched(*ae)[0]) if reference.worlds[key] == run.worlds[key] else 0
     paired = shared > 0
-    found = _paired(ae, rr, seed, n_boot) if paired else _unpaired(ae, rr, seed, n_boot)
+    directed = len(ae[0][1]) + len(ae[1][1]) > 0
+    found: Found = {}
+    if directed:
+        found = _paired(ae, rr, seed, n_boot) if paired else _unpaired(ae, rr, seed, n_boot)
     test = "paired" if paired else "unpaired"
     rows = [
         {

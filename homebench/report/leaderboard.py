@@ -1,12 +1,15 @@
 """``homebench leaderboard``: one metric of several runs' methods, condition by condition.
 
 Rows are method labels (in label order), columns conditions (``style/condition`` in a style
-sweep); each cell is ``estimate [lo, hi]`` from its run's summary table (the 95 %
-goal-bootstrap interval). A method label found in several runs becomes one row per run,
-``run: label``, when its method or parameters differ between them or when two of them hold it
-under the same condition; otherwise its runs' cells share one row. The best estimate of each
-column as shown (largest AHC or RR, smallest mean AE; ties alike) is marked ``*``. The optional
-index page lists the table and links each run's report.
+sweep) of one world: where runs hold a condition of the same name on other databases, each
+world gets its own column, ``condition @ world`` (:mod:`homebench.evaluation.worlds`). Each cell
+is ``estimate [lo, hi]`` from its run's summary table (the 95 % goal-bootstrap interval), ``--``
+where there is none (a method that gives no home direction has no direction metric). A method
+label found in several runs becomes one row per run, ``run: label``, when its method or
+parameters differ between them or when two of them hold it under the same column; otherwise
+its runs' cells share one row. The best estimate of each column as shown (largest AHC or RR,
+smallest mean AE; ties alike) is marked ``*``. The optional index page lists the table and
+links each run's report.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import pandas as pd
 from pydantic import ValidationError
 
 from homebench.config import MethodEntry
+from homebench.evaluation.worlds import world_keys, world_label
 from homebench.fileio import write_text_atomic
 from homebench.report.compare import METRICS
 from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
@@ -61,6 +65,9 @@ def _cells(runs: Sequence[RunData], labels: Sequence[str], metric: str) -> pd.Da
     records = []
     for label, run in zip(labels, runs, strict=True):
         configs = method_configs(run)
+        pairs = run.tables.pairs
+        worlds = world_keys(pairs.assign(style=pairs["style"].astype("object")),
+                            ["style", "condition"])  # fmt: skip
         for row in run.tables.summary.to_dict("records"):
             style = row.get("style")
             swept = isinstance(style, str)
@@ -68,12 +75,32 @@ def _cells(runs: Sequence[RunData], labels: Sequence[str], metric: str) -> pd.Da
                 "run": label,
                 "method": row["method"],
                 "column": f"{style}/{row['condition']}" if swept else row["condition"],
+                "world": worlds.get((style if swept else "", row["condition"]), ""),
                 "estimate": row[metric],
                 "lo": row[f"{metric}_lo"],
                 "hi": row[f"{metric}_hi"],
                 "config": configs.get(row["method"], ""),
             })  # fmt: skip
-    return pd.DataFrame(records)
+    cells = pd.DataFrame(records)
+    cells["column"] = _world_columns(cells)
+    return cells
+
+
+def _world_columns(cells: pd.DataFrame) -> list[str]:
+    """Each cell's column: its condition column, with ``@ world`` where runs hold that
+    condition on other databases (the full world key where two short labels coincide)."""
+    worlds = cells.groupby("column", sort=False)["world"].nunique()
+    shown = {
+        (column, world): world_label(world)
+        for column, world in zip(cells["column"], cells["world"], strict=True)
+        if worlds[column] > 1
+    }
+    if len(set(shown.values())) < len(shown):
+        shown = {key: key[1] for key in shown}
+    return [
+        f"{column} @ {shown[column, world]}" if (column, world) in shown else column
+        for column, world in zip(cells["column"], cells["world"], strict=True)
+    ]
 
 
 def _row_labels(cells: pd.DataFrame) -> list[str]:
@@ -102,7 +129,8 @@ def leaderboard(
     cells["shown"] = [digits.round(float(v)) for v in cells["estimate"]]
     best = cells.groupby("column")["shown"].transform("max" if larger_better else "min")
     cells["text"] = [
-        f"{digits.text(e)} [{digits.text(lo)}, {digits.text(hi)}]" + (BEST if s == b else "")
+        MISSING_TEXT if pd.isna(e)
+        else f"{digits.text(e)} [{digits.text(lo)}, {digits.text(hi)}]" + (BEST if s == b else "")
         for e, lo, hi, s, b in zip(cells["estimate"], cells["lo"], cells["hi"],
                                    cells["shown"], best, strict=True)
     ]  # fmt: skip
