@@ -35,6 +35,7 @@ from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
+from homebench.methods.base import gives_direction
 from homebench.methods.visual_compass import CompassMode
 from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
@@ -344,6 +345,12 @@ def entry_problem(entry: MethodEntry, robot: str | None = None) -> str:
         return str(error)
     except (TypeError, ValueError) as error:
         return f"params: {error}"
+    if robot is not None and not gives_direction(cls):
+        return (
+            f"{entry.method} gives no home direction (rotations only): it cannot steer a "
+            f"{robot} robot; give another method `compass: visual` to use it as that method's "
+            "compass"
+        )
     if robot is not None and getattr(cls, "uses_neighbours", False):
         return (
             f"{entry.method} needs the views of the neighbouring grid positions; a {robot} robot "

@@ -220,3 +220,11 @@ def test_runs_on_other_databases_are_compared_unpaired_and_say_so(tmp_path: Path
     same = write_fake_run(tmp_path / "c", [FakeMethod("m", 40.0)], GOALS6, world="one")
     assert _cell(compare_runs([a, same]), "m", "c", "mean_ae_deg")["test"] == "paired"
 
+
+def test_a_method_without_home_directions_has_only_time_ratios(tmp_path: Path) -> None:
+    compass = FakeMethod("compass", 5.0, gives_direction=False)
+    a = write_fake_run(tmp_path / "a", [FakeMethod("m", 10.0), compass], GOALS6)
+    b = write_fake_run(tmp_path / "b", [FakeMethod("m", 40.0), compass], GOALS6)
+    table = compare_runs([a, b]).table
+    assert set(table.loc[table["method"] == "compass", "test"]) == {"ratio"}
+    assert set(table.loc[table["method"] == "m", "test"]) == {"paired", "ratio"}

@@ -117,3 +117,11 @@ def test_columns_are_keyed_by_world_and_the_best_is_marked_within_a_column(
     assert list(frame.columns) == ["method", "a-a"]
     assert frame.set_index("method").loc["min", "a-a"].endswith(" *")
 
+
+def test_a_method_without_home_directions_is_never_ranked(tmp_path: Path) -> None:
+    methods = [FakeMethod("compass", 0.0, gives_direction=False), FakeMethod("warping", 30.0)]
+    run = write_fake_run(tmp_path / "run", methods)
+    for metric in ("ahc", "rr", "mean_ae_deg"):
+        cells = leaderboard([run], metric=metric).view.frame.set_index("method")
+        assert cells.loc["compass", "a-a"] == "--"
+        assert cells.loc["warping", "a-a"].endswith(" *")

@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from homebench.evaluation.metrics import Missing
-from homebench.evaluation.results import goal_labels
+from homebench.evaluation.results import gives_directions, goal_labels
 from homebench.evaluation.statistics import (
     LEVEL,
     N_BOOT,
@@ -77,11 +77,13 @@ START_POSITION = ["start_i", "start_j"]
 
 def keyed_cells(table: pd.DataFrame, position: list[str], value: str) -> Keyed:
     """The rows of ``table`` per (condition, method) as keys and ``value`` (float); pairs whose
-    method raised (an ``error``) are in no comparison, as in no metric."""
+    method raised (an ``error``) are in no comparison, as in no metric, nor are those of a
+    method that gives no home direction (a compass)."""
     if table.empty:
         return {}
     if "error" in table.columns:
         table = table[table["error"].isna()]
+    table = table[gives_directions(table)]
     columns = ["seed", "goal_i", "goal_j", *position, value]
     return {
         key: (

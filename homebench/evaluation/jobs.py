@@ -45,7 +45,7 @@ from homebench.evaluation.plan import (
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import read_json_record, write_bytes_atomic
 from homebench.geometry import home_direction, world_to_robot_xy
-from homebench.methods.base import HomingEstimate
+from homebench.methods.base import HomingEstimate, gives_direction
 from homebench.methods.visual_compass import (
     compass_turn,
     in_current_frame,
@@ -53,7 +53,7 @@ from homebench.methods.visual_compass import (
 )
 
 #: 2: the swept world seed; 3: rows carry an "error"; 4: the swept style; 5: the databases'
-#: keys.
+#: identities and whether the method gives a home direction.
 RESULT_FORMAT = 5
 
 
@@ -379,6 +379,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
         "goal_database": job.goal.source.alias,
         "current_database_key": job.currents[0].source.database_key,
         "goal_database_key": job.goal.source.database_key,
+        "gives_direction": gives_direction(type(method)),
         "goal_i": job.goal.i,
         "goal_j": job.goal.j,
         "goal_heading": goal_heading,

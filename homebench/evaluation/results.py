@@ -129,6 +129,7 @@ def load_pairs(run_dir: Path) -> PairTable:
             frame[f"param.{name}"] = json.dumps(value) if isinstance(value, list | dict) else value
         frame["grid"] = json.dumps(record["grid"])
         frame["goal_heading"] = float(record["goal_heading"])
+        frame["gives_direction"] = bool(record["gives_direction"])
         frames.append(frame)
     if not frames:
         return PairTable(pd.DataFrame(), tuple(missing))
@@ -346,8 +347,26 @@ def summary_table(
         }
         if metrics.catchment:
             row |= _bounds("catchment", mean_interval(per_goal["catchment"], by_goal))
+        if not gives_directions(group).all():
+            row |= {name: math.nan for name in DIRECTION_COLUMNS if name in row}
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+#: Summary columns of the home direction, n/a (NaN) for a method that gives none.
+DIRECTION_COLUMNS = [
+    f"{metric}{bound}"
+    for metric in ("no_estimate_share", "mean_ae_deg", "ahc", "ahc_missing90", "rr", "catchment")
+    for bound in ("", "_lo", "_hi")
+] + ["median_ae_deg"]
+
+
+def gives_directions(pairs: pd.DataFrame) -> pd.Series:
+    """Per pair, whether its method gives home directions (a pair table without the column,
+    made by hand, is taken to)."""
+    if "gives_direction" not in pairs:
+        return pd.Series(True, index=pairs.index)
+    return pairs["gives_direction"].astype(bool)
 
 
 def _rotation_bounds(group: pd.DataFrame, resampler: GoalResampler) -> dict[str, float]:
@@ -387,7 +406,8 @@ def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
         return RunTables(empty, empty, empty, empty, loaded.missing_jobs)
     pairs = loaded.pairs
     answered = pairs[pairs["error"].isna()]  # failed pairs: no metric, only n_failed
-    goals, rr_starts = goal_tables(answered, metrics)
+    directed = answered[gives_directions(answered)]  # rotation-only methods: no field, no AHC
+    goals, rr_starts = goal_tables(directed, metrics)
     by = (["style"] if pairs["style"].notna().any() else []) + GROUP
     swept = pairs["seed"].nunique(dropna=False) > 1
     by_seed = [*by[:-2], "seed", *GROUP]
@@ -395,7 +415,7 @@ def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
         pairs,
         with_failures(summary_table(answered, goals, metrics, by), pairs, by),
         goals,
-        ahc_table(answered, metrics, by),
+        ahc_table(directed, metrics, by),
         loaded.missing_jobs,
         with_failures(summary_table(answered, goals, metrics, by_seed), pairs, by_seed)
         if swept

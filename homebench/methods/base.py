@@ -53,6 +53,10 @@ class HomingMethod(Protocol):
     towards the current view, which the engine supplies, described by the method's
     ``describe_route(view)`` where it has one (else ``describe``).
 
+    A method that gives no home direction, only a heading change (a visual compass), sets
+    the class attribute ``gives_direction = False``: its pairs then have no direction metric
+    (AE, AHC, RR, catchment: n/a everywhere), only its rotation error.
+
     A method whose module imports heavy modules only when they first run (compiled numba
     kernels: importing numba costs a third of a second of CPU) names them in the class
     attribute ``preload_modules`` (a tuple of module names); the worker server of a run with
@@ -70,3 +74,8 @@ class HomingMethod(Protocol):
     def home(self, current: Any, goal: Any) -> HomingEstimate:
         """Home direction at the current view towards the goal view, from their features."""
         ...
+
+
+def gives_direction(method: type) -> bool:
+    """Whether the method class answers home directions (``gives_direction``, default True)."""
+    return bool(getattr(method, "gives_direction", True))

@@ -172,6 +172,7 @@ class VisualCompass(WholeImageViews):
 
     name: ClassVar[str] = "visual-compass"
     image_kind: ClassVar[ImageKind] = "unfolded"
+    gives_direction: ClassVar[bool] = False
 
     interpolate: bool = param(
         False,
