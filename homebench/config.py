@@ -36,6 +36,7 @@ from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods import registry
 from homebench.methods.base import gives_direction
+from homebench.methods.param_types import parameter_problem
 from homebench.methods.visual_compass import CompassMode
 from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
@@ -364,10 +365,43 @@ def entry_problem(entry: MethodEntry, robot: str | None = None) -> str:
     return ""
 
 
+def value_problem(entry: MethodEntry) -> str:
+    """The first value of ``entry``'s ``params`` or ``grid`` that its parameter's type refuses
+    (:mod:`homebench.methods.param_types`), with its key: "params.n_rho: expected an integer,
+    got 2.5", "grid.n_rho.1: ..."; "" when there is none (an unknown method or parameter is
+    :func:`entry_problem`'s to name)."""
+    try:
+        cls = registry.get(entry.method)
+    except HomebenchError:
+        return ""
+    given = [(f"params.{name}", name, value) for name, value in entry.params.items()]
+    given += [
+        (f"grid.{name}.{i}", name, value)
+        for name, values in entry.grid.items()
+        for i, value in enumerate(values)
+    ]
+    for key, name, value in given:
+        problem = parameter_problem(cls, name, value)
+        if problem:
+            return f"{key}: {problem}"
+    return ""
+
+
+def entry_error(k: int, entry: MethodEntry, robot: str | None = None) -> str:
+    """What is wrong with ``entry``, the ``k``-th method entry, in one line that starts with
+    its key ("methods.0.params.n_rho: ...", "methods.0: ..."); "" when nothing is
+    (:func:`value_problem`, then :func:`entry_problem`)."""
+    wrong = value_problem(entry)
+    if wrong:
+        return f"methods.{k}.{wrong}"
+    problem = entry_problem(entry, robot)
+    return f"methods.{k}: {problem}" if problem else ""
+
+
 def check_entries(path: Path, entries: Sequence[MethodEntry], robot: str | None = None) -> None:
     """ConfigError naming the file and entry of the first entry with a problem
-    (:func:`entry_problem`)."""
+    (:func:`entry_error`)."""
     for k, entry in enumerate(entries):
-        problem = entry_problem(entry, robot)
+        problem = entry_error(k, entry, robot)
         if problem:
-            raise ConfigError(f"{path}: methods.{k}: {problem}")
+            raise ConfigError(f"{path}: {problem}")

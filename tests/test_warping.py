@@ -177,7 +177,7 @@ def test_dot_distance_is_minus_the_scalar_product():
 
 
 def test_unknown_choices_are_config_errors():
-    with pytest.raises(ConfigError, match="normalize must be one of none, equalize, zscore"):
+    with pytest.raises(ConfigError, match="normalize: expected one of none, equalize, zscore"):
         Warping(normalize="histogram")
     with pytest.raises(ConfigError, match="distance"):
         Warping(distance="sad")

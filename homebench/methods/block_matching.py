@@ -54,6 +54,7 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, PanoramaGeometry
 from homebench.imaging.horizon import horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
+from homebench.methods.param_types import check_fields
 from homebench.methods.params import documented, param
 from homebench.methods.registry import register
 from homebench.methods.warping import is_flat
@@ -147,6 +148,7 @@ class BlockMatching:
     )
 
     def __post_init__(self) -> None:
+        check_fields(self)
         if self.block_size < 1 or self.block_size % 2 == 0:
             raise ConfigError("block-matching: block_size must be odd and positive")
         if self.block_step < 1 or self.vertical_radius < 0:

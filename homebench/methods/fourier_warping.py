@@ -48,6 +48,7 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI
 from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import HomingEstimate, ImageKind, View
+from homebench.methods.param_types import check_fields
 from homebench.methods.params import documented, param, same_as
 from homebench.methods.registry import register
 from homebench.methods.warping import FLAT_TOLERANCE, Warping, best_hypothesis, rho_grid
@@ -124,6 +125,7 @@ class FourierWarping:
     )
 
     def __post_init__(self) -> None:
+        check_fields(self)
         if not 2 <= self.n_coefficients <= self.n_columns // 2:
             raise ConfigError("fourier-warping: need 2 <= n_coefficients <= n_columns / 2")
         if self.n_rho < 2 or not 0.0 < self.rho_max < 1.0:

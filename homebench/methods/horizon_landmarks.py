@@ -30,7 +30,8 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, PanoramaGeometry, wrap_angle
 from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import View
-from homebench.methods.params import check_choices, param
+from homebench.methods.param_types import check_fields
+from homebench.methods.params import param
 
 FloatArray = NDArray[np.float64]
 
@@ -107,7 +108,7 @@ class LandmarkViews:
 
     def check_landmark_params(self) -> None:
         """ConfigError (naming the method) for a bad choice, band or column count."""
-        check_choices(self)
+        check_fields(self)
         name = getattr(self, "name", "landmark method")
         if not 0.0 < self.band_half_width_deg < 90.0:
             raise ConfigError(f"{name}: band_half_width_deg must be in (0, 90)")

@@ -37,7 +37,8 @@ from homebench.errors import ConfigError
 from homebench.geometry import PanoramaGeometry
 from homebench.methods.base import HomingEstimate, ImageKind, RouteShape, View
 from homebench.methods.klt_tracking import KltTracker, Tracks
-from homebench.methods.params import check_choices, documented, param, same_as
+from homebench.methods.param_types import check_fields
+from homebench.methods.params import documented, param, same_as
 from homebench.methods.registry import register
 from homebench.methods.sector_law import (
     MIN_FEATURES,
@@ -144,12 +145,12 @@ class KltSector:
     )
 
     def __post_init__(self) -> None:
+        check_fields(self)
         self.tracker  # noqa: B018  (validates the tracker's parameters)
         if self.route_step < 0 or self.goal_threshold < 0:
             raise ConfigError("klt-sector: route_step and goal_threshold must be >= 0")
         if self.min_features < MIN_FEATURES:
             raise ConfigError(f"klt-sector: min_features must be >= {MIN_FEATURES}")
-        check_choices(self)
 
     @property
     def tracker(self) -> KltTracker:

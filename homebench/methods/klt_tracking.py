@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.errors import ConfigError
+from homebench.methods.param_types import check_fields
 from homebench.methods.params import documented, param
 
 F32Array = NDArray[np.float32]
@@ -148,6 +149,7 @@ class KltTracker:
     )
 
     def __post_init__(self) -> None:
+        check_fields(self)
         if self.max_corners < 1 or self.min_tracks < 0:
             raise ConfigError("klt: max_corners must be >= 1 and min_tracks >= 0")
         if not 0.0 < self.quality_level < 1.0 or self.min_eigen < 0:

@@ -74,7 +74,8 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, wrap_angle
 from homebench.imaging.horizon import band_elevations, horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
-from homebench.methods.params import check_choices, documented, param
+from homebench.methods.param_types import check_fields
+from homebench.methods.params import documented, param
 from homebench.methods.registry import register
 from homebench.methods.warping import is_flat
 
@@ -400,7 +401,7 @@ class MinWarping:
     )
 
     def __post_init__(self) -> None:
-        check_choices(self)
+        check_fields(self)
         if self.n_columns < 4 or self.columns_per_step < 1 or self.n_rows < 1 + self.edge_filter:
             raise ConfigError(
                 "min-warping: need n_columns >= 4, columns_per_step >= 1 and n_rows >= 1 "

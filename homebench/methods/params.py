@@ -11,7 +11,8 @@ meaning, and, when it has one, its relation to the paper:
 A field with neither is the paper's own parameter (or an implementation setting the paper has no
 use for). :func:`parameter_docs` reads any method's fields — third-party methods without metadata
 included — and :func:`method_listing` formats them for ``homebench methods``; :func:`documented`
-appends the same list to the class docstring, so the reasons live in one place.
+appends the same list to the class docstring, so the reasons live in one place. The values a
+method is given are checked against its fields' types by :mod:`homebench.methods.param_types`.
 """
 
 from __future__ import annotations
@@ -22,9 +23,9 @@ import textwrap
 import types
 import typing
 from dataclasses import dataclass
-from typing import Any, Literal, get_args, get_origin
+from typing import Annotated, Any, Literal, get_args, get_origin
 
-from homebench.errors import ConfigError
+from homebench.methods.param_types import field_hints
 
 _KEY = "homebench"
 
@@ -69,22 +70,18 @@ def same_as(owner: type, name: str) -> Any:
 
 
 def _type_text(hint: Any) -> str:
-    """Plain text of a type hint: ``one of a | b`` for Literals, ``int | None`` for unions."""
+    """Plain text of a type hint: ``one of a | b`` for Literals, ``int | None`` for unions,
+    ``tuple[float, float]`` for generic types."""
     if isinstance(hint, str):  # an annotation that did not resolve: its text
         return hint.strip("'\"")
-    if get_origin(hint) is Literal:
-        return "one of " + " | ".join(str(choice) for choice in get_args(hint))
-    args = get_args(hint)
-    if args and get_origin(hint) in (typing.Union, types.UnionType):
+    origin, args = get_origin(hint), get_args(hint)
+    if origin is Annotated:
+        return _type_text(args[0])
+    if origin is Literal:
+        return "one of " + " | ".join(str(choice) for choice in args)
+    if args and origin in (typing.Union, types.UnionType):
         return " | ".join("None" if a is type(None) else _type_text(a) for a in args)
-    return getattr(hint, "__name__", str(hint))
-
-
-def _hints(cls: type) -> dict[str, Any]:
-    try:
-        return typing.get_type_hints(cls)
-    except Exception:  # a plugin's annotations may not resolve here: fall back to their text
-        return {}
+    return str(hint) if args else getattr(hint, "__name__", str(hint))
 
 
 def _default(field: dataclasses.Field[Any]) -> Any:
@@ -97,7 +94,7 @@ def _default(field: dataclasses.Field[Any]) -> Any:
 
 def parameter_docs(cls: type) -> list[ParameterDoc]:
     """The parameters (init fields) of a method dataclass, documented or not, in field order."""
-    hints = _hints(cls)
+    hints = field_hints(cls)
     docs = []
     for field in dataclasses.fields(cls):
         if not field.init:
@@ -201,17 +198,3 @@ def documented(cls: type) -> type:
         parameter_lines(cls)
     )
     return cls
-
-
-def check_choices(method: Any) -> None:
-    """ConfigError naming the method and field when a Literal-typed field has another value."""
-    hints = _hints(type(method))
-    for field in dataclasses.fields(method):
-        hint = hints.get(field.name)
-        if field.init and get_origin(hint) is Literal:
-            value = getattr(method, field.name)
-            if value not in get_args(hint):
-                choices = ", ".join(map(str, get_args(hint)))
-                raise ConfigError(
-                    f"{method.name}: {field.name} must be one of {choices}, got {value!r}"
-                )

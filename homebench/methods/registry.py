@@ -28,6 +28,7 @@ from importlib.metadata import (
 from typing import Any, TypeVar
 
 from homebench.errors import ConfigError, HomebenchError
+from homebench.methods.param_types import check_parameters
 from homebench.suggest import did_you_mean, unknown
 
 T = TypeVar("T")
@@ -172,8 +173,9 @@ def parameters(name: str) -> dict[str, Any]:
 
 
 def create(name: str, **params: Any) -> Any:
-    """Instantiate a registered method; unknown parameters are a ConfigError naming the closest
-    known one (or listing them all)."""
+    """Instantiate a registered method; unknown parameters, and values their field's type
+    refuses (:mod:`~homebench.methods.param_types`), are a ConfigError naming the parameter
+    (and for an unknown one the closest known one, or them all)."""
     cls = get(name)
     known = {f.name for f in dataclasses.fields(cls) if f.init}
     extra = sorted(set(params) - known)
@@ -185,4 +187,5 @@ def create(name: str, **params: Any) -> Any:
             else (f"; known: {', '.join(sorted(known))}")
         )
         raise ConfigError(f"method {name!r} has no parameter(s) {', '.join(hints)}{listed}")
+    check_parameters(cls, params, prefix=f"method {name!r}: ")
     return cls(**params)

@@ -47,7 +47,8 @@ from numpy.typing import NDArray
 from homebench.errors import ConfigError
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
 from homebench.methods.base import HomingEstimate, ImageKind, View
-from homebench.methods.params import check_choices, documented, param
+from homebench.methods.param_types import check_fields
+from homebench.methods.params import documented, param
 from homebench.methods.registry import register
 from homebench.methods.sift_elimination import half_plane_constraint, horizon_constraint
 from homebench.methods.sift_matching import match_descriptors
@@ -93,14 +94,12 @@ def panorama_sides(geometry: PanoramaGeometry, v: NDArray, tolerance: float) -> 
     return np.where(np.abs(offset) <= tolerance, 0, np.sign(offset)).astype(np.int8)
 
 
-@register
-@documented
 @dataclass(frozen=True)
-class Sift:
-    """SIFT-landmark homing on raw catadioptric images; defaults: seed 001, Table 1."""
+class SiftHoming:
+    """What ``sift`` and ``sift-unfolded`` share: the parameters that apply to both kinds of
+    image, the detector and :meth:`home`; each describes its own kind of image."""
 
-    name: ClassVar[str] = "sift"
-    image_kind: ClassVar[ImageKind] = "raw"
+    name: ClassVar[str]
 
     n_octave_layers: int = param(5, "S: scale layers per octave (Table 1; Lowe's 3).")
     contrast_threshold: float = param(
@@ -118,13 +117,6 @@ class Sift:
         1.6,
         "Blur of the first octave's base image (pixels).",
         reading="not stated; Lowe's (2004) 1.6, as for edge_threshold",
-    )
-    mask_annulus: bool = param(
-        True,
-        "Detect only inside the mirror's annulus.",
-        reading="the paper detects on the raw image without saying where; landmarks are scene "
-        "points, which appear only inside the annulus (outside are the rim and the camera, "
-        "which turn with the robot and would match at unchanged bearings)",
     )
     ratio: float = param(
         0.8,
@@ -175,7 +167,7 @@ class Sift:
     seed: int = param(0, "Seed of the triple sample (together with a checksum of the bearings).")
 
     def __post_init__(self) -> None:
-        check_choices(self)
+        check_fields(self)
         checks = {
             "n_octave_layers must be >= 1": self.n_octave_layers >= 1,
             "contrast_threshold must be > 0": self.contrast_threshold > 0,
@@ -201,32 +193,6 @@ class Sift:
             edgeThreshold=self.edge_threshold,
             sigma=self.sigma,
         )
-
-    def describe(self, view: View) -> SiftFeatures:
-        """SIFT landmarks of a raw catadioptric or unfolded view, with bearings and sides."""
-        geometry = view.geometry
-        if isinstance(geometry, CatadioptricGeometry):
-            mask = annulus_mask(geometry) if self.mask_annulus else None
-            keypoints, descriptors = self._detector().detectAndCompute(view.image, mask)
-            positions = _positions(keypoints)
-            u, v = positions[:, 0], positions[:, 1]
-            azimuths, _ = geometry.pixel_to_bearing(u, v)
-            sides = geometry.horizon_side(u, v, self.horizon_tolerance_px)
-            period = 0.0
-        else:
-            pad = min(SEAM_PAD, geometry.width)
-            padded = cv2.copyMakeBorder(view.image, 0, 0, pad, pad, cv2.BORDER_WRAP)
-            keypoints, descriptors = self._detector().detectAndCompute(padded, None)
-            positions = _positions(keypoints) - np.array([pad, 0], dtype=np.float32)
-            inside = (positions[:, 0] >= 0) & (positions[:, 0] < geometry.width)
-            positions = positions[inside]
-            descriptors = descriptors[inside] if descriptors is not None else None
-            azimuths = geometry.column_to_azimuth(positions[:, 0])
-            sides = panorama_sides(geometry, positions[:, 1], self.horizon_tolerance_px)
-            period = float(geometry.width)
-        if descriptors is None:
-            descriptors = np.empty((0, 128), dtype=np.float32)
-        return SiftFeatures(positions, descriptors.astype(np.float32), azimuths, sides, period)
 
     def home(self, current: SiftFeatures, goal: SiftFeatures) -> HomingEstimate:
         """Home direction at the current view towards the goal view (seed 001, eq. 3-7)."""
@@ -283,15 +249,74 @@ class Sift:
 @register
 @documented
 @dataclass(frozen=True)
-class SiftUnfolded(Sift):
+class Sift(SiftHoming):
+    """SIFT-landmark homing on raw catadioptric images; defaults: seed 001, Table 1."""
+
+    name: ClassVar[str] = "sift"
+    image_kind: ClassVar[ImageKind] = "raw"
+
+    mask_annulus: bool = param(
+        True,
+        "Detect only inside the mirror's annulus.",
+        reading="the paper detects on the raw image without saying where; landmarks are scene "
+        "points, which appear only inside the annulus (outside are the rim and the camera, "
+        "which turn with the robot and would match at unchanged bearings)",
+    )
+
+    def describe(self, view: View) -> SiftFeatures:
+        """SIFT landmarks of a raw catadioptric view, with bearings and sides."""
+        geometry = view.geometry
+        if not isinstance(geometry, CatadioptricGeometry):
+            raise ConfigError(f"{self.name}: needs a raw image, got an unfolded panorama")
+        mask = annulus_mask(geometry) if self.mask_annulus else None
+        keypoints, descriptors = self._detector().detectAndCompute(view.image, mask)
+        positions = _positions(keypoints)
+        u, v = positions[:, 0], positions[:, 1]
+        azimuths, _ = geometry.pixel_to_bearing(u, v)
+        sides = geometry.horizon_side(u, v, self.horizon_tolerance_px)
+        return _features(positions, descriptors, azimuths, sides)
+
+
+@register
+@documented
+@dataclass(frozen=True)
+class SiftUnfolded(SiftHoming):
     """The same method on the unfolded panorama (an option; the paper uses the raw image).
 
-    Detection wraps ``SEAM_PAD`` columns around the seam; ``mask_annulus`` does not apply;
-    the horizon tolerance is in rows.
+    Detection wraps ``SEAM_PAD`` columns around the seam; the horizon tolerance is in rows.
     """
 
     name: ClassVar[str] = "sift-unfolded"
     image_kind: ClassVar[ImageKind] = "unfolded"
+
+    def describe(self, view: View) -> SiftFeatures:
+        """SIFT landmarks of an unfolded panorama, with bearings and sides."""
+        geometry = view.geometry
+        if not isinstance(geometry, PanoramaGeometry):
+            raise ConfigError(f"{self.name}: needs an unfolded panorama, got a raw image")
+        pad = min(SEAM_PAD, geometry.width)
+        padded = cv2.copyMakeBorder(view.image, 0, 0, pad, pad, cv2.BORDER_WRAP)
+        keypoints, descriptors = self._detector().detectAndCompute(padded, None)
+        positions = _positions(keypoints) - np.array([pad, 0], dtype=np.float32)
+        inside = (positions[:, 0] >= 0) & (positions[:, 0] < geometry.width)
+        positions = positions[inside]
+        descriptors = descriptors[inside] if descriptors is not None else None
+        azimuths = geometry.column_to_azimuth(positions[:, 0])
+        sides = panorama_sides(geometry, positions[:, 1], self.horizon_tolerance_px)
+        return _features(positions, descriptors, azimuths, sides, float(geometry.width))
+
+
+def _features(
+    positions: NDArray[np.float32],
+    descriptors: NDArray[np.float32] | None,
+    azimuths: NDArray[np.float64],
+    sides: NDArray[np.int8],
+    period: float = 0.0,
+) -> SiftFeatures:
+    """The features of one image; no descriptors (OpenCV's None: no keypoints) as (0, 128)."""
+    if descriptors is None:
+        descriptors = np.empty((0, 128), dtype=np.float32)
+    return SiftFeatures(positions, descriptors.astype(np.float32), azimuths, sides, period)
 
 
 def _positions(keypoints: tuple[cv2.KeyPoint, ...]) -> NDArray[np.float32]:

@@ -37,7 +37,8 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, PanoramaGeometry, wrap_angle
 from homebench.imaging.horizon import horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
-from homebench.methods.params import check_choices, documented, param
+from homebench.methods.param_types import check_fields
+from homebench.methods.params import documented, param
 from homebench.methods.registry import register
 from homebench.methods.warping import is_flat
 
@@ -156,7 +157,7 @@ class WholeImageViews:
     )
 
     def __post_init__(self) -> None:
-        check_choices(self)
+        check_fields(self)
         check_band(getattr(self, "name", "method"), self.elevation_range_deg)
 
     def describe(self, view: View) -> FloatArray:

@@ -41,7 +41,8 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, wrap_angle
 from homebench.imaging.horizon import horizon_signal
 from homebench.methods.base import HomingEstimate, ImageKind, View
-from homebench.methods.params import check_choices, documented, param
+from homebench.methods.param_types import check_fields
+from homebench.methods.params import documented, param
 from homebench.methods.registry import register
 from homebench.methods.warping_search import (
     GoalScreen,
@@ -133,7 +134,7 @@ class Warping:
     )
 
     def __post_init__(self) -> None:
-        check_choices(self)
+        check_fields(self)
         if self.n_rho < 2 or not 0.0 < self.rho_max < 1.0:
             raise ConfigError("warping: need n_rho >= 2 and 0 < rho_max < 1")
         if self.n_alpha < 1 or self.n_psi < 1 or self.n_columns % self.n_psi:

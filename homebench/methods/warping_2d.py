@@ -51,6 +51,7 @@ from homebench.geometry import TWO_PI, PanoramaGeometry
 from homebench.imaging.horizon import horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.min_warping import MinWarping
+from homebench.methods.param_types import check_fields
 from homebench.methods.params import documented, param, same_as
 from homebench.methods.registry import register
 from homebench.methods.warping import best_hypothesis, is_flat, rho_grid, warp_tables
@@ -119,6 +120,7 @@ class Warping2D:
     rho_max: float = param(0.95, "Largest rho searched (as n_rho).")
 
     def __post_init__(self) -> None:
+        check_fields(self)
         if self.n_columns < 4 or self.n_rows < 1:
             raise ConfigError("warping-2d: need n_columns >= 4 and n_rows >= 1")
         if not -90.0 < self.band_bottom_deg < 0.0 < self.band_top_deg < 90.0:

@@ -53,7 +53,7 @@ from pydantic import (
     model_validator,
 )
 
-from homebench.config import ALIAS, MethodEntry, UnfoldConfig, entry_problem, method_points
+from homebench.config import ALIAS, MethodEntry, UnfoldConfig, entry_error, method_points
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
 from homebench.experiments.robot import DriftModel, MotionLimits
@@ -173,9 +173,9 @@ class RouteConfig(_Strict):
         if repeated:
             raise ValueError(f"methods: label {repeated[0]!r} used twice; give each entry a label")
         for k, entry in enumerate(self.methods):
-            problem = _method_problem(entry)
+            problem = _method_problem(k, entry)
             if problem:
-                raise ValueError(f"methods.{k}: {problem}")
+                raise ValueError(problem)
         return self
 
     @model_serializer(mode="wrap")
@@ -206,16 +206,17 @@ class RouteConfig(_Strict):
         return KltTracker(**self.tracker)
 
 
-def _method_problem(entry: MethodEntry) -> str:
-    """Why a route run cannot home with ``entry`` ("" when it can)."""
+def _method_problem(k: int, entry: MethodEntry) -> str:
+    """Why a route run cannot home with ``entry``, its ``k``-th method entry, naming the key
+    ("" when it can)."""
     if entry.method == KLT_SECTOR:
         if entry.params or entry.grid or entry.compass != "none":
             return (
-                "klt-sector homes with its own route homing, set by 'tracker' and 'homing'; "
-                "its entry takes no params, grid or compass"
+                f"methods.{k}: klt-sector homes with its own route homing, set by 'tracker' and "
+                "'homing'; its entry takes no params, grid or compass"
             )
         return ""
-    return entry_problem(entry, robot="route")
+    return entry_error(k, entry, robot="route")
 
 
 def load_route_config(path: Path, overrides: Sequence[str] = ()) -> RouteConfig:
