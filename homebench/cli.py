@@ -75,7 +75,7 @@ def main(debug: bool) -> None:
 
 @main.group(cls=_Group)
 def data() -> None:
-    """Grid databases: list, generate, verify, show."""
+    """Grid databases: list, generate, verify, show, check."""
 
 
 @data.command("list")
@@ -119,17 +119,18 @@ def data_generate(
 @click.option("--path", type=click.Path(path_type=Path), help="Folder of a real set's copy.")
 def data_verify(database: str, path: Path | None) -> None:
     """Check a database's files (layout, sizes, sha256) against its manifest."""
-    from homebench.data.catalog import find_manifest, resolve
+    from homebench.data.catalog import find_manifest
     from homebench.data.verify import verify
 
     manifest, _ = find_manifest(database)
-    report = verify(resolve(database, path), manifest)
+    opened = _open_database(database, path)
+    report = verify(opened.database, manifest)
     for warning in report.warnings:
         click.echo(f"homebench: warning: {warning}", err=True)
     tolerated = len(report.within_tolerance)
     exact = len(report.checked) - tolerated
     click.echo(
-        f"{report.name}: {report.n_images} images OK in {report.root} ({exact} sha256 "
+        f"{opened.label}: {report.n_images} images OK in {report.root} ({exact} sha256 "
         f"identical, {len(report.unchecked)} without a known sum"
         + (
             f", {tolerated} differing in bytes but matching their content fingerprint: made on "
@@ -151,15 +152,43 @@ def data_verify(database: str, path: Path | None) -> None:
 @click.option("--at", nargs=2, type=int, help="Grid position shown large (default: centre).")
 def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] | None) -> None:
     """Write a contact sheet PNG of DATABASE (the grid, one raw + unfolded pair)."""
-    from homebench.data.catalog import resolve
     from homebench.report.contact_sheet import write_contact_sheet
 
-    db = resolve(database, path)
+    db = _open_database(database, path).database
     db.check_layout()
     sample = at or (db.grid.shape[0] // 2, db.grid.shape[1] // 2)
     out.mkdir(parents=True, exist_ok=True)
     written = write_contact_sheet(db, out / f"{db.name}_contact_sheet.png", sample)
     click.echo(str(written))
+
+
+@data.command("check")
+@click.argument("database")
+@click.option("--path", type=click.Path(path_type=Path), help="Folder of a real set's copy.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the pairs homed.")
+def data_check(database: str, path: Path | None, seed: int) -> None:
+    """Estimate DATABASE's conventions from its images (azimuth direction and zero, horizon,
+    a raw image's centre) by homing and flow between grid neighbours, and hold them against
+    its manifest; exit 3, with the corrections to make, where they disagree."""
+    from homebench.data.check import METHOD, check_database, report_lines
+
+    opened = _open_database(database, path)
+    checks = check_database(opened.database, seed)
+    click.echo(f"{opened.label}: images in {opened.database.root}")
+    click.echo("\n".join(report_lines(checks, METHOD)))
+    if not all(check.agrees for check in checks):
+        sys.exit(EXIT_CHECK)
+
+
+def _open_database(database: str, path: Path | None) -> Any:
+    """The database as the data commands open and name it (homebench.data.naming); its
+    manifest's warnings go to stderr."""
+    from homebench.data.naming import open_database
+
+    opened = open_database(database, path)
+    for warning in opened.warnings:
+        click.echo(f"homebench: warning: {warning}", err=True)
+    return opened
 
 
 # --------------------------------------------------------------------------- methods and runs

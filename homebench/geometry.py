@@ -25,7 +25,7 @@ All angles are radians unless a name ends in ``_deg``. Angle arrays may be any s
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -196,6 +196,11 @@ def _sign(direction: Direction) -> float:
     return 1.0 if direction == "ccw" else -1.0
 
 
+def other_direction(direction: Direction) -> Direction:
+    """The opposite azimuth direction: "cw" for "ccw" and the reverse."""
+    return "cw" if _sign(direction) > 0 else "ccw"
+
+
 @dataclass(frozen=True)
 class PanoramaGeometry:
     """An unfolded (cylindrical, equiangular) panorama of ``width`` x ``height`` pixels."""
@@ -267,6 +272,21 @@ class PanoramaGeometry:
         """Column shift that turns this panorama's robot by ``rotation`` (radians, ccw)."""
         return -_sign(self.direction) * rotation / self.column_step
 
+    def turned(self, offset: float) -> PanoramaGeometry:
+        """This model with every column's azimuth ``offset`` radians larger (the zero column
+        moved, in [0, width))."""
+        zero = (self.zero_column - _sign(self.direction) * offset / self.column_step) % self.width
+        return replace(self, zero_column=float(zero))
+
+    def horizon_at(self, row: float) -> PanoramaGeometry:
+        """This model with elevation 0 at fractional ``row`` (both edges shifted alike)."""
+        shift = float(self.row_to_elevation(row))
+        return replace(
+            self,
+            elevation_top=self.elevation_top - shift,
+            elevation_bottom=self.elevation_bottom - shift,
+        )
+
 
 @dataclass(frozen=True)
 class CatadioptricGeometry:
@@ -326,6 +346,18 @@ class CatadioptricGeometry:
         radii, elev = np.asarray(self.radii), np.asarray(self.elevations)
         order = np.argsort(elev)
         return _interp_linear_extrapolate(e, elev[order], radii[order])
+
+    def turned(self, offset: float) -> CatadioptricGeometry:
+        """This model with every pixel's azimuth ``offset`` radians larger (the image angle of
+        azimuth 0 moved, wrapped to [-pi, pi))."""
+        zero = wrap_angle(self.zero_angle - _sign(self.direction) * offset)
+        return replace(self, zero_angle=float(zero))
+
+    def horizon_at(self, radius: float) -> CatadioptricGeometry:
+        """This model with elevation 0 at ``radius`` pixels: every elevation of the radial
+        profile shifted alike (the mirror's angular range kept)."""
+        shift = float(self.radius_to_elevation(radius))
+        return replace(self, elevations=tuple(float(e) - shift for e in self.elevations))
 
     def pixel_to_bearing(self, u: ArrayLike, v: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Azimuth and elevation of pixels (u, v) (any shapes that broadcast)."""

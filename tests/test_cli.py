@@ -63,7 +63,7 @@ def test_data_list_shows_shipped_manifests() -> None:
 def test_data_verify_and_show_on_a_user_database(arena_manifest: Path, tmp_path: Path) -> None:
     code, out, err = _invoke("data", "verify", str(arena_manifest))
     assert code == 0, err
-    assert "arena: 20 images OK" in out
+    assert f"arena ({arena_manifest}): 20 images OK" in out
     code, out, err = _invoke("data", "show", str(arena_manifest), "--out", str(tmp_path))
     assert code == 0, err
     sheet = Path(out.strip())
@@ -113,6 +113,6 @@ def test_data_generate_a_manifest_and_a_variant_then_verify(tmp_path: Path) -> N
     )
     assert code == 0, err
     code, out, err = _invoke("data", "verify", str(tmp_path / "day"))
-    assert code == 0 and "tiny-day: 8 images OK" in out, err
+    assert code == 0 and f"tiny-day ({tmp_path / 'day'}): 8 images OK" in out, err
     code, _, err = _invoke("data", "generate", str(manifest), "--variant", "dusk")
     assert code == 2 and "unknown variant 'dusk'" in err

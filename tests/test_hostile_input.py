@@ -22,6 +22,7 @@ MANIFEST = """\
 schema: 1
 name: hostile
 grid: {{shape: [3, 2], spacing: 0.25}}
+heading_deg: 0
 images:
   unfolded:
     folder: pano

@@ -87,6 +87,24 @@ class GridDatabase:
         """Grid positions with no file of ``kind``, in grid order."""
         return [(i, j) for i, j in self.grid.indices() if not self.path(i, j, kind).is_file()]
 
+    def unmatched_patterns(self) -> list[str]:
+        """One line per image kind whose pattern names no file at any grid position of an
+        existing folder (a mistyped pattern), with the file names it looked for first."""
+        lines = []
+        for kind in self.kinds:
+            section = self.manifest.section(kind)
+            folder = self.root / section.folder
+            if not folder.is_dir() or len(self.missing(kind)) < self.grid.size:
+                continue
+            names = section.file_names(0, 0)
+            stem = os.path.commonprefix(names).rpartition(".")[0]  # "img_00_00" of .png, .pgm
+            looked = "|".join([names[0], *(n.removeprefix(f"{stem}.") for n in names[1:])])
+            lines.append(
+                f"images.{kind}.pattern {section.pattern!r} matches no file: looked for "
+                f"{looked} in {os.path.abspath(folder)}"
+            )
+        return lines
+
     def check_layout(self, kinds: tuple[str, ...] | None = None) -> None:
         """Raise MissingImagesError (naming the positions) if any image of ``kinds`` is absent,
         DataError if their folder cannot be opened (a symbolic link loop, a file)."""

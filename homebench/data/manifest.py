@@ -7,7 +7,9 @@ degrees in YAML and converted to geometry.py's radians by :meth:`Manifest.geomet
 :meth:`Manifest.heading`.
 
 Validation is strict: unknown keys, wrong types and bad values raise ConfigError naming the file,
-the line and the key path (``images.raw.size[0]``).
+the line and the key path (``images.raw.size[0]``). The heading has no default (a wrong one
+turns every home direction; ``homebench data check`` tests the conventions against the images),
+a zero column lies on the image, a centre in it, angles and elevations in their ranges.
 """
 
 from __future__ import annotations
@@ -135,6 +137,20 @@ class CatadioptricSection(_Strict):
     direction: Direction = "ccw"
     zero_angle_deg: float = 0.0
 
+    @field_validator("zero_angle_deg")
+    @classmethod
+    def _an_angle(cls, value: float) -> float:
+        if not -360.0 <= value <= 360.0:
+            raise ValueError(
+                f"{value} is no image angle in degrees (ccw from +u): give one in [-360, 360]"
+            )
+        return value
+
+    @field_validator("elevations_deg")
+    @classmethod
+    def _elevations(cls, values: tuple[float, ...]) -> tuple[float, ...]:
+        return _elevations_in_range(values)
+
     def geometry(self, size: tuple[int, int]) -> CatadioptricGeometry:
         return CatadioptricGeometry(
             width=size[0],
@@ -165,6 +181,11 @@ class PanoramaSection(_Strict):
     direction: Direction = "ccw"
     zero_column: float = 0.0
 
+    @field_validator("elevation_top_deg", "elevation_bottom_deg")
+    @classmethod
+    def _elevation(cls, value: float) -> float:
+        return _elevations_in_range((value,))[0]
+
     def geometry(self, size: tuple[int, int]) -> PanoramaGeometry:
         return PanoramaGeometry(
             width=size[0],
@@ -183,6 +204,14 @@ class PanoramaSection(_Strict):
             direction=g.direction,
             zero_column=g.zero_column,
         )
+
+
+def _elevations_in_range(values: tuple[float, ...]) -> tuple[float, ...]:
+    """``values`` if each is an elevation in degrees, in [-90, 90]; else ValueError."""
+    for value in values:
+        if not -90.0 <= value <= 90.0:
+            raise ValueError(f"{value} is no elevation in degrees: give one in [-90, 90]")
+    return values
 
 
 def _degrees(radians: float) -> float:
@@ -342,6 +371,16 @@ class RawImages(ImageSection):
     def geometry(self) -> CatadioptricGeometry:
         return self.catadioptric.geometry(self.size)
 
+    @model_validator(mode="after")
+    def _centre_inside(self) -> RawImages:
+        (u, v), (width, height) = self.catadioptric.centre, self.size
+        if not (0 <= u <= width - 1 and 0 <= v <= height - 1):
+            raise ValueError(
+                f"catadioptric.centre [{u:g}, {v:g}] lies outside the {width} x {height} image "
+                f"(pixel centres [0, {width - 1}] x [0, {height - 1}])"
+            )
+        return self
+
 
 class UnfoldedImages(ImageSection):
     """Unfolded (cylindrical, equiangular) panoramas."""
@@ -351,6 +390,16 @@ class UnfoldedImages(ImageSection):
 
     def geometry(self) -> PanoramaGeometry:
         return self.panorama.geometry(self.size)
+
+    @model_validator(mode="after")
+    def _zero_column_inside(self) -> UnfoldedImages:
+        zero, width = self.panorama.zero_column, self.size[0]
+        if not 0 <= zero < width:
+            raise ValueError(
+                f"panorama.zero_column {zero:g} is not a column of the {width}-wide image: "
+                f"it must lie in [0, {width})"
+            )
+        return self
 
 
 class ImagesSection(_Strict):
@@ -381,13 +430,25 @@ class Manifest(_Strict):
     description: str = ""
     source: Source | None = None
     grid: GridSection
-    heading_deg: float = 0.0
-    headings_deg: dict[str, float] = {}
+    heading_deg: Annotated[float, Field(allow_inf_nan=False)]
+    headings_deg: dict[str, Annotated[float, Field(allow_inf_nan=False)]] = {}
     images: ImagesSection
     generator: Generator | None = None
     ground_truth: str | None = None
 
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True, populate_by_name=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _heading_given(cls, data: Any) -> Any:
+        """No silent default for the heading: a wrong one turns every home direction."""
+        if isinstance(data, dict) and "heading_deg" not in data:
+            raise ValueError(
+                "heading_deg is required: the world direction (deg, ccw from the grid's +x "
+                "axis) every image faces; Vardy's Bielefeld sets and the README's example "
+                "use 90.0 (images facing +y), generated worlds 0.0"
+            )
+        return data
 
     @field_validator("ground_truth")
     @classmethod
