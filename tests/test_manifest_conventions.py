@@ -99,3 +99,31 @@ def test_a_pattern_that_names_no_file_is_a_warning_naming_what_it_looked_for(
         f"'r{{x:02d}}-{{y:02d}}.{{ext}}' matches no file: looked for r00-00.pgm|png in {tmp_path}"
     )
     assert error.startswith(f"homebench: error: {tmp_path}: no image for grid position(s)")
+
+
+def test_a_run_notes_a_pattern_that_names_no_file_of_a_kind_it_does_not_read(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """A raw section typed wrong stays unseen by a run of unfolded-image methods: say so."""
+    import shutil
+
+    import yaml
+    from conftest import arena_config, run_config
+
+    folder = tmp_path / "arena"
+    shutil.copytree(arena_manifest.parent, folder)
+    manifest = yaml.safe_load((folder / "manifest.yaml").read_text())
+    manifest["images"]["raw"] = {
+        "folder": "pano",
+        "pattern": "raw_{x}_{y}.png",
+        "size": [64, 48],
+        "catadioptric": {"centre": [31.5, 23.5], "radii": [3, 22], "elevations_deg": [-50, 45]},
+    }
+    (folder / "manifest.yaml").write_text(yaml.safe_dump(manifest))
+    config = arena_config(tmp_path, folder / "manifest.yaml", methods=[{"method": "warping"}])
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    assert "homebench: note: database 'arena', arena (" in result.stderr
+    assert "images.raw.pattern 'raw_{x}_{y}.png' matches no file: looked for raw_0_0.png" in (
+        result.stderr
+    )

@@ -7,7 +7,8 @@
   come from a processor that rounds differently (:mod:`homebench.data.fingerprint`): results
   are comparable, not bit-identical; anything else differs in content.
 - A **real set** whose manifest lists sums: each file's sha256 (cached by size and mtime, see
-  :mod:`homebench.evaluation.image_hashes`) against the manifest's.
+  :mod:`homebench.data.file_hashes`) against the manifest's.
+- Every database: an image kind whose ``pattern`` names no file (:func:`pattern_notes`).
 
 The outcome is a note for the user (never an error: the run may go on, but its numbers are
 not the reference's), and goes into ``environment.json``.
@@ -17,10 +18,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from homebench.config import SweptWorld
 from homebench.data import catalog
 from homebench.data.file_hashes import file_hashes
 from homebench.data.fingerprint import matches
 from homebench.data.manifest import Manifest
+from homebench.data.naming import database_label
 from homebench.errors import UnknownDatabaseError
 from homebench.evaluation.sources import Source, open_source
 
@@ -125,3 +128,16 @@ def check_source(source: Source) -> DataCheck | None:
     if reference.generator.key != manifest.generator.key:
         return None  # another world than the reference's (a swept seed or style)
     return _compare_manifests(source.alias, manifest, reference)
+
+
+def pattern_notes(sources: dict[tuple[str, SweptWorld], Source]) -> list[str]:
+    """One note per image kind of a run's database whose pattern names no file (see
+    :meth:`~homebench.data.database.GridDatabase.unmatched_patterns`): a kind the run does not
+    read is not checked by it, and a mistyped pattern would stay unseen."""
+    notes = []
+    for source in {s.alias: s for s in sources.values()}.values():
+        database = open_source(source)
+        label = database_label(database.name, source.locator)
+        notes += [f"database {source.alias!r}, {label}: {line}" for line in
+                  database.unmatched_patterns()]  # fmt: skip
+    return notes

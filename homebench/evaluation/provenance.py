@@ -175,6 +175,7 @@ def run_sections(
         manifest = open_source(source).manifest.model_dump(mode="json")
         swept = "/".join(str(v) for v in world if v is not None)
         databases[f"{alias}@{swept}" if swept else alias] = {
+            "name": manifest["name"],
             "identity": source.identity,
             "key": source.database_key,
             "locator": source.locator,

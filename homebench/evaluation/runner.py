@@ -24,7 +24,7 @@ from typing import Any
 from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
-from homebench.evaluation.data_checks import check_source
+from homebench.evaluation.data_checks import check_source, pattern_notes
 from homebench.evaluation.executors import (
     PRELOAD,
     Execution,
@@ -163,8 +163,9 @@ def run_plan(
             write_run_metadata(config, config_path, run_dir, resolved, extra)
             write_plan_index(plan, run_dir)
         outcome = _run_jobs(plan, run_dir, execution, executor, force, show_progress)
-    notes = tuple(note for check in checks.values() if check and (note := check.note()))
-    return dataclasses.replace(outcome, notes=notes)
+    notes = [note for check in checks.values() if check and (note := check.note())]
+    notes += pattern_notes(sources)
+    return dataclasses.replace(outcome, notes=tuple(notes))
 
 
 def _run_jobs(

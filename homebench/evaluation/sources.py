@@ -21,6 +21,7 @@ from homebench.data.database import GridDatabase
 from homebench.data.file_hashes import file_hashes
 from homebench.data.generate import Generation, generate_many
 from homebench.data.manifest import KINDS, Manifest
+from homebench.data.naming import database_label
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError, DataError
 from homebench.geometry import Grid, PanoramaGeometry
@@ -97,7 +98,7 @@ def _prepare(
     path = ref.path
     database = catalog.resolve(locator, None if generated else path)
     manifest = database.manifest
-    kinds = _kinds_read(config, alias, manifest)
+    kinds = _kinds_read(config, alias, database_label(manifest.name, ref.name or alias), manifest)
     database.check_images(kinds)
     generator = manifest.generator
     if generator is not None:
@@ -129,16 +130,18 @@ def content_key(database: GridDatabase, kinds: tuple[ImageKind, ...]) -> str:
     return stable_hash([(*position, sums[path]) for position, path in paths.items()], 16)
 
 
-def _kinds_read(config: RunConfig, alias: str, manifest: Manifest) -> tuple[ImageKind, ...]:
-    """The image kinds the config's methods read from database ``alias``: each method's own
-    kind, or raw images to unfold where the database has no unfolded ones (see
-    :func:`database_view`). ConfigError naming the method's label and the database if a method
-    needs raw images and the database has only unfolded ones."""
+def _kinds_read(
+    config: RunConfig, alias: str, label: str, manifest: Manifest
+) -> tuple[ImageKind, ...]:
+    """The image kinds the config's methods read from database ``alias`` (named ``label``):
+    each method's own kind, or raw images to unfold where the database has no unfolded ones
+    (see :func:`database_view`). ConfigError naming the method's label and the database if a
+    method needs raw images and the database has only unfolded ones."""
     read = set()
     for label, method, _ in config.method_points():
         kind = registry.get(method).image_kind
         if kind not in manifest.kinds and not (kind == "unfolded" and "raw" in manifest.kinds):
-            name = f" ({manifest.name})" if manifest.name != alias else ""
+            name = f" ({label})" if label != alias else ""
             raise ConfigError(
                 f"methods: {label!r} ({method}) needs {kind} images, but database {alias!r}{name} "
                 f"has only {' and '.join(manifest.kinds)} images"

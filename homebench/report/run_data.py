@@ -11,6 +11,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from homebench.config import MetricsConfig, kind_of
+from homebench.data.naming import database_label
 from homebench.errors import DataError
 from homebench.evaluation.results import RunTables, build_tables
 
@@ -62,18 +63,20 @@ class RunData(RunInfo):
         return [c for c in self.config.get("conditions", []) if c in present]
 
     def database_label(self, alias: str) -> str:
-        """A short name of the database behind ``alias``: its name, manifest or world."""
+        """The database behind ``alias`` as the data commands name it
+        (:func:`~homebench.data.naming.database_label`: its manifest's name, and the path the
+        config gave), or its generated world; runs written before the environment recorded
+        the manifest's name show the config's reference."""
         ref = self.config.get("databases", {}).get(alias)
         if not isinstance(ref, dict):
             return alias
         if ref.get("world"):
             world = ref["world"]
             return f"world {world.get('variant', 'original')} (seed {world.get('seed', 0)})"
-        name = str(ref.get("name"))
-        if name.endswith((".yaml", ".yml")):
-            path = Path(name)
-            return path.parent.name if path.stem == "manifest" else path.stem
-        return name
+        recorded = self.environment.get("databases", {}).get(alias)
+        if isinstance(recorded, dict) and isinstance(recorded.get("name"), str):
+            return database_label(recorded["name"], str(ref.get("name")))
+        return str(ref.get("name"))
 
     def condition_title(self, condition: str) -> str:
         """``condition`` with the databases it pairs: "a-b (current: x, goal: y)"."""
