@@ -135,8 +135,10 @@ def _parse_mapping(text: str, origin: str, what: str) -> tuple[dict[str, Any], y
         node, data = _load(text, origin, what)
     except yaml.MarkedYAMLError as error:
         where = _where(origin, error.problem_mark or error.context_mark)
-        problem = error.problem or error.context or error
-        raise ConfigError(f"{where}: YAML syntax error: {_one_line(problem)}") from None
+        problem = _one_line(error.problem or error.context or error)
+        if "maximum nesting depth" in problem:  # PyYAML 6.0.4's parser stops it first
+            raise ConfigError(f"{where}: YAML nested deeper than {MAX_YAML_DEPTH} levels") from None
+        raise ConfigError(f"{where}: YAML syntax error: {problem}") from None
     except yaml.YAMLError as error:
         raise ConfigError(f"{origin}: YAML error: {_one_line(error)}") from None
     if not isinstance(data, dict):
