@@ -6,6 +6,8 @@ radially symmetrically: the wall is 2.2-3.8 m away, nearer walls change the imag
 which bends the gradient towards them. Measured on the 5 x 5 lattice with neighbours 0.1 m
 apart: mean 4.5 deg, max 13.1 deg; the test allows 8 and 20 (margin for the rendering's
 rounding on other machines, far below the 90 deg of a method that does not home).
+
+The paper's own scene, the method's validation: tests/test_validation_did.py.
 """
 
 from __future__ import annotations
@@ -15,32 +17,15 @@ import math
 import numpy as np
 import pytest
 from synthetic_panorama import render
+from validation_scenes import neighbour_error, neighbours
 
 from homebench.errors import ConfigError
-from homebench.geometry import Pose, angular_error, home_direction, world_to_robot_xy
+from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
 from homebench.methods.did import DescentInImageDistances, distance_gradient, image_distance
 
 GOAL = Pose(0.2, -0.3, 0.0)
 STEP = 0.1  # metres between a lattice place and its neighbours
-
-
-def _neighbours(method: DescentInImageDistances, place: Pose) -> list[tuple[np.ndarray, object]]:
-    """The four neighbours STEP metres away along world x and y, offsets in the robot frame."""
-    found = []
-    for dx, dy in ((STEP, 0.0), (-STEP, 0.0), (0.0, STEP), (0.0, -STEP)):
-        pose = Pose(place.x + dx, place.y + dy, place.heading)
-        offset = world_to_robot_xy(np.array([dx, dy]), place.heading)
-        found.append((offset, method.describe(render(pose))))
-    return found
-
-
-def _error(method: DescentInImageDistances, place: Pose) -> float:
-    goal = method.describe(render(GOAL))
-    estimate = method.home(method.describe(render(place)), goal, _neighbours(method, place))
-    assert estimate.angle is not None
-    truth = home_direction(place.xy, GOAL.xy, place.heading)
-    return float(angular_error(estimate.angle, truth))
 
 
 def test_gradient_of_a_plane_is_exact():
@@ -68,8 +53,8 @@ def test_home_descends_a_known_distance_field():
         return texture + float(np.hypot(*(xy - home)))  # RMS difference to ``texture``
 
     offsets = [np.array(v) for v in ((0.01, 0.0), (-0.01, 0.0), (0.0, 0.01), (0.0, -0.01))]
-    neighbours = [(o, image(o)) for o in offsets]
-    estimate = method.home(image(np.zeros(2)), texture, neighbours)
+    samples = [(o, image(o)) for o in offsets]
+    estimate = method.home(image(np.zeros(2)), texture, samples)
     assert estimate.angle is not None
     assert angular_error(estimate.angle, math.atan2(2.0, 1.0)) < 1e-3
 
@@ -82,8 +67,8 @@ def test_turned_views_give_the_same_world_direction():
     place = Pose(-0.4, 0.3, 0.0)
     turned = Pose(place.x, place.y, math.pi / 2)
     goal, goal_turned = (method.describe(render(Pose(GOAL.x, GOAL.y, h))) for h in (0, math.pi / 2))
-    a = method.home(method.describe(render(place)), goal, _neighbours(method, place))
-    b = method.home(method.describe(render(turned)), goal_turned, _neighbours(method, turned))
+    a = method.home(method.describe(render(place)), goal, neighbours(method, place, STEP))
+    b = method.home(method.describe(render(turned)), goal_turned, neighbours(method, turned, STEP))
     assert a.angle is not None and b.angle is not None
     assert angular_error(a.angle, b.angle + math.pi / 2) < 1e-6
 
@@ -114,7 +99,7 @@ def test_parameters_are_checked_and_registered():
 def test_arena_lattice():
     method = DescentInImageDistances()
     errors = [
-        _error(method, Pose(GOAL.x + 0.3 * dx, GOAL.y + 0.3 * dy, 0.0))
+        neighbour_error(method, GOAL, Pose(GOAL.x + 0.3 * dx, GOAL.y + 0.3 * dy, 0.0), STEP)
         for dx in range(-2, 3)
         for dy in range(-2, 3)
         if (dx, dy) != (0, 0)

@@ -7,6 +7,7 @@ equal-distance assumption (as for 1-D warping, a few degrees), and the 10 coeffi
 the horizon's coarse structure (wavelengths of 40 deg and more), so the warp is fitted to a
 low-pass image whose fine parallax is gone. Measured on these pairs: at most 10 deg; mean 8 deg
 (at most 19 deg) over the 5 x 5 lattice.
+The paper's own scene, the method's validation: tests/test_validation_fourier_warping.py.
 """
 
 from __future__ import annotations
@@ -16,9 +17,10 @@ import math
 import numpy as np
 import pytest
 from synthetic_panorama import home_errors, render, rolled
+from validation_scenes import ring_texture
 
 from homebench.errors import ConfigError
-from homebench.geometry import Pose, angular_error, home_direction
+from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
 from homebench.methods.fourier_warping import FourierWarping, full_spectrum, warp_matrices
 
@@ -28,24 +30,8 @@ GOAL = Pose(0.2, -0.3, 0.4)
 N = 360
 
 
-def _ring_texture(theta: np.ndarray) -> np.ndarray:
-    return 100.0 + 30.0 * np.cos(2.0 * theta + 0.4) + 20.0 * np.sin(3.0 * theta) + np.cos(theta)
-
-
 def _coefficients(signal: np.ndarray, k: int = 10) -> np.ndarray:
     return np.fft.rfft(signal)[:k] / signal.size
-
-
-def _equal_distance_signals(rho: float, alpha: float, psi: float):
-    """Goal and current 1-D signals (N samples) of landmarks on the unit circle around the goal,
-    the current one ray-traced from rho * (cos alpha, sin alpha) with heading psi."""
-    azimuth = 2.0 * np.pi * np.arange(N) / N
-    world = azimuth + psi
-    cx, cy = rho * math.cos(alpha), rho * math.sin(alpha)
-    along = cx * np.cos(world) + cy * np.sin(world)
-    t = -along + np.sqrt(along**2 - (cx**2 + cy**2) + 1.0)
-    theta = np.arctan2(cy + t * np.sin(world), cx + t * np.cos(world))
-    return _ring_texture(theta), _ring_texture(azimuth), (cx, cy)
 
 
 def test_warped_coefficients_are_those_of_the_warped_signal():
@@ -56,8 +42,8 @@ def test_warped_coefficients_are_those_of_the_warped_signal():
     alpha = 2.0 * np.pi * np.arange(8) / 8
     rho = np.asarray(method.rho)[:, None, None]
     theta = phi - np.arcsin(rho * np.sin(phi - alpha[:, None]))  # (rho, alpha, N)
-    expected = np.fft.rfft(_ring_texture(theta), axis=-1)[..., :10] / N
-    warped = method.warped(_coefficients(_ring_texture(phi)))
+    expected = np.fft.rfft(ring_texture(theta), axis=-1)[..., :10] / N
+    warped = method.warped(_coefficients(ring_texture(phi)))
     np.testing.assert_allclose(warped, expected, atol=1e-9)
 
 
@@ -69,20 +55,6 @@ def test_rho_zero_is_the_identity():
 def test_full_spectrum_adds_the_conjugate_negative_frequencies():
     c = np.array([5.0, 1 + 2j, 3 - 1j])
     np.testing.assert_array_equal(full_spectrum(c), [3 + 1j, 1 - 2j, 5.0, 1 + 2j, 3 - 1j])
-
-
-@pytest.mark.parametrize(
-    ("r", "a", "p"), [(6, 0, 0), (10, 9, 20), (4, 30, 60), (15, 50, 5), (19, 71, 36)]
-)
-def test_search_recovers_the_parameters_of_an_equal_distance_world(r, a, p):
-    method = FourierWarping()
-    rho, alpha, psi = method.rho[r], 2 * np.pi * a / 72, 2 * np.pi * p / 72
-    current, goal, xy = _equal_distance_signals(rho, alpha, psi)
-    estimate = method.home(_coefficients(current), _coefficients(goal))
-    assert estimate.diagnostics["rho"] == pytest.approx(rho)
-    assert estimate.diagnostics["alpha"] == pytest.approx(alpha)
-    assert angular_error(estimate.rotation, psi) < 1e-9
-    assert angular_error(estimate.angle, home_direction(xy, (0.0, 0.0), psi)) < 1e-9
 
 
 @pytest.mark.parametrize(

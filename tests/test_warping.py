@@ -4,6 +4,7 @@ Tolerance of the home direction on the arena world: 15 deg. Alpha and psi are se
 steps (up to 2.5 deg of quantisation each, both enter beta = alpha - psi + pi), and the arena
 violates the equal-distance assumption (wall 2-4 m from the goal), which bends the estimate by a
 few more degrees; errors measured on these pairs stay below about 10 deg.
+The paper's own scene, the method's validation: tests/test_validation_warping.py.
 """
 
 from __future__ import annotations
@@ -13,10 +14,11 @@ import math
 import numpy as np
 import pytest
 from synthetic_panorama import home_errors, render, rolled
+from validation_scenes import ring_texture
 from warping_reference import direct_costs
 
 from homebench.errors import ConfigError
-from homebench.geometry import Pose, angular_error, home_direction
+from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
 from homebench.methods.base import View
 from homebench.methods.warping import Warping, best_hypothesis, normalize_signal, warp_tables
@@ -24,40 +26,6 @@ from homebench.methods.warping import Warping, best_hypothesis, normalize_signal
 TOLERANCE = math.radians(15.0)
 STEP = math.radians(5.0)  # one psi step: the rotation is found to within one step
 GOAL = Pose(0.2, -0.3, 0.4)
-
-
-def _ring_texture(theta: np.ndarray) -> np.ndarray:
-    return np.cos(2.0 * theta + 0.4) + 0.6 * np.sin(3.0 * theta) + 0.3 * np.cos(theta)
-
-
-def _equal_distance_signals(rho: float, alpha: float, psi: float, n: int):
-    """Goal and current 1-D signals of landmarks on the unit circle around the goal.
-
-    Goal at the origin, heading 0; current at rho * (cos alpha, sin alpha), heading psi. The
-    current signal is ray-traced (ray-circle intersection), independent of eq. 2.
-    """
-    azimuth = 2.0 * np.pi * np.arange(n) / n
-    world = azimuth + psi
-    cx, cy = rho * math.cos(alpha), rho * math.sin(alpha)
-    along = cx * np.cos(world) + cy * np.sin(world)
-    t = -along + np.sqrt(along**2 - (cx**2 + cy**2) + 1.0)
-    theta = np.arctan2(cy + t * np.sin(world), cx + t * np.cos(world))
-    return _ring_texture(theta), _ring_texture(azimuth), (cx, cy)
-
-
-@pytest.mark.parametrize(
-    ("r", "a", "p"), [(6, 0, 0), (10, 9, 20), (4, 30, 60), (15, 50, 5), (19, 71, 36)]
-)
-def test_search_recovers_the_parameters_of_an_equal_distance_world(r, a, p):
-    method = Warping()
-    rho, alpha, psi = method.rho[r], 2 * np.pi * a / 72, 2 * np.pi * p / 72
-    current, goal, xy = _equal_distance_signals(rho, alpha, psi, 72)
-    estimate = method.home(current, goal)
-    assert estimate.diagnostics["rho"] == pytest.approx(rho)
-    assert estimate.diagnostics["alpha"] == pytest.approx(alpha)
-    assert angular_error(estimate.rotation, psi) < 1e-9
-    truth = home_direction(xy, (0.0, 0.0), psi)
-    assert angular_error(estimate.angle, truth) < 1e-9
 
 
 def test_warp_tables_at_rho_zero_reproduce_the_goal_for_every_alpha():
@@ -141,7 +109,7 @@ def test_bad_parameters_are_config_errors(params):
 
 @pytest.mark.parametrize("mode", ["equalize", "zscore"])
 def test_normalized_signals_ignore_gain_and_offset(mode):
-    signal = _ring_texture(2.0 * np.pi * np.arange(72) / 72)
+    signal = ring_texture(2.0 * np.pi * np.arange(72) / 72)
     same = normalize_signal(signal, mode)
     np.testing.assert_allclose(normalize_signal(3.0 * signal + 40.0, mode), same, atol=1e-12)
     if mode == "equalize":  # any increasing grey-level mapping, even a non-linear one

@@ -39,6 +39,12 @@ robustly "despite the simplicity of the matched features", and low-frequency fea
 suffice), but not its method section: the block size, spacing and search radii are not in
 reach here. Chosen as Vardy's homing code has them (options ``block_size``, ``block_step``,
 ``search_radius``, ``vertical_radius``), to be checked against the paper.
+
+Validation (tests/test_validation_block_matching.py), on the paper's scene, aligned views, and
+its headline that homing survives many wrong correspondences: rendered panoramas of a round
+arena with the goal at its centre, 36 places 0.3-0.9 m away, give AHC 0.9998 (at most 2.7
+deg); with a quarter of the goal's horizon replaced by noise, 17 % of the flow vectors point
+the wrong way, and AHC is still 0.98.
 """
 
 from __future__ import annotations

@@ -33,6 +33,13 @@ Möller and Vardy (2006, Biol. Cybern. 95, 413-430, first page reached at fdocum
 their matched filters to "a Fourier-based parameter method" without the count. Chosen as
 ``n_coefficients = 10`` (option) and 1-D warping's grid (options ``n_rho``, ``n_alpha``,
 ``n_psi``), to be checked against the paper.
+
+Validation (tests/test_validation_fourier_warping.py), on 1-D warping's scene: ray-traced
+signals of a landmark ring (three harmonics, which 10 coefficients hold whole), displaced and
+turned on the search grid, give rho, alpha and psi exactly; rendered panoramas with the goal at
+the centre of a round arena (wall 3 m away all round), 24 places 0.3-1.5 m away, each view also
+turned by -37.5 deg, give a mean AE of 5.3 deg (AHC 0.996), at most 23 deg (0.3 m away: the
+kept wavelengths of 40 deg and more shift little), and the turn within half a psi step.
 """
 
 from __future__ import annotations

@@ -21,6 +21,13 @@ The engine decides the route: ``uses_route`` tells it to pass the intermediate v
 (0: none, track directly from the goal to the current view), or along the tree of such routes
 (``route_shape``, see :mod:`homebench.evaluation.grid_routes`); route views are described by
 :meth:`KltSector.describe_route`, without corners.
+
+Validation (tests/test_validation_klt_sector.py), on the paper's scene, the corners of an
+office: with the exact bearings of a generated room's 240 object corners, the sector law
+applied step by step converges to within 1.2 mm from 0.5-2 m away; homing a route through its
+waypoints in reverse, bearings with 0.2 deg of noise, ends 3-7 mm from home after 2 m and 3-5
+mm after 12.6 m (sub-centimetre, not growing with the route, as the paper). End to end
+(rendered views, KLT tracking, life-cycles): the route experiment, configs/klt_route.yaml.
 """
 
 from __future__ import annotations

@@ -22,8 +22,23 @@ frame.
 Readings and options (see the parameters): the images (whole unfolded panoramas, canonical
 columns); the azimuthal derivative (central difference of neighbouring columns, periodic); only
 the azimuthal component of the flow enters the filters (points at one horizontal distance; no
-elevation flow). A texture-less image gives :meth:`HomingEstimate.none`; a zero gradient
-(identical views) ``angle=None``.
+elevation flow). Vardy's own MFDID code (a public copy was read; the paper's text was not)
+uses the full flow of points at one distance on a sphere instead: the azimuthal term divided
+by cos(elevation) plus an elevation term ``cos(phi) sin(elevation)`` on the vertical image
+derivative; within the +-30 to 50 deg of an unfolded panorama the azimuthal weights differ
+by up to a factor 1.5. A texture-less image gives :meth:`HomingEstimate.none`; a zero
+gradient (identical views) ``angle=None``.
+
+Pre-smoothing (``blur_deg``, shared with DID and the visual compass: see
+:class:`homebench.methods.visual_compass.WholeImageViews`): off by default; whether and how the
+paper low-passes its images could not be checked here.
+
+Validation (tests/test_validation_mfdid.py), on the paper's scene, every point at one distance
+and an image distance that grows smoothly: at the centre of a ray-traced landmark ring the
+matched filters predict the image change of a small step to 1 % and the direction is the
+descent of the true image distance (within 1 deg); rendered panoramas near the goal at the
+centre of a round arena with a smooth wall (36 places 0.15-0.6 m away, aligned views) give AHC
+0.9985, at most 7.4 deg (at 1.2 m, beyond the first-order range, AHC 0.75).
 """
 
 from __future__ import annotations
