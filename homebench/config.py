@@ -31,9 +31,11 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from homebench.bounds import MAX_AHC_BINS, count_problem, workers_problem
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
+from homebench.image_header import size_problem
 from homebench.methods import registry
 from homebench.methods.base import gives_direction
 from homebench.methods.param_types import parameter_problem
@@ -117,7 +119,15 @@ class MethodEntry(_Strict):
         empty = [name for name, values in value.items() if not values]
         if empty:
             raise ValueError(f"grid: {empty[0]!r} needs at least one value")
+        problem = count_problem({name: len(values) for name, values in value.items()}, "points")
+        if problem:
+            raise ValueError(problem)
         return value
+
+    @property
+    def n_points(self) -> int:
+        """How many (label, params) points :meth:`expand` gives."""
+        return math.prod(len(values) for values in self.grid.values())
 
     @property
     def name(self) -> str:
@@ -152,6 +162,17 @@ class AhcConfig(_Strict):
     bin_step_cm: float = Field(30.0, gt=0)
     missing: Literal["exclude", "orthogonal"] = "exclude"
 
+    @model_validator(mode="after")
+    def _bins(self) -> AhcConfig:
+        # as many bins as np.arange(start, stop + step / 2, step) has (evaluation.results)
+        span = (self.bin_stop_cm + self.bin_step_cm / 2 - self.bin_start_cm) / self.bin_step_cm
+        if not 2 <= math.ceil(span) <= MAX_AHC_BINS:
+            raise ValueError(
+                f"bin_start_cm, bin_stop_cm and bin_step_cm make {max(0, math.ceil(span)):,} "
+                f"distance bins; give 2 to {MAX_AHC_BINS:,}"
+            )
+        return self
+
 
 class MetricsConfig(_Strict):
     ahc: AhcConfig = AhcConfig()
@@ -172,6 +193,13 @@ class UnfoldConfig(_Strict):
     width: int = Field(288, ge=16)
     elevation_top_deg: float = Field(45.0, gt=0, lt=90)
     elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)
+
+    @model_validator(mode="after")
+    def _bounded(self) -> UnfoldConfig:
+        problem = size_problem(self.width, self.geometry().height)
+        if problem:
+            raise ValueError(f"width {self.width}: {problem}")
+        return self
 
     def geometry(self) -> PanoramaGeometry:
         return PanoramaGeometry.square_pixels(
@@ -233,8 +261,9 @@ class RunConfig(_Strict):
     @field_validator("jobs")
     @classmethod
     def _jobs(cls, value: int) -> int:
-        if value == 0 or value < -1:
-            raise ValueError("jobs must be a positive number, or -1 for all cores")
+        problem = workers_problem(value)
+        if problem:
+            raise ValueError(problem)
         return value
 
     @field_validator("seeds")
@@ -256,6 +285,9 @@ class RunConfig(_Strict):
 
     @model_validator(mode="after")
     def _references(self) -> RunConfig:
+        problem = count_problem(self._counts(), "jobs")
+        if problem:
+            raise ValueError(problem)
         conditions = [] if self.conditions == "all" else self.conditions
         for k, condition in enumerate(conditions):
             parts = condition.split("-")
@@ -281,6 +313,23 @@ class RunConfig(_Strict):
             if missing:
                 raise ValueError(f"checks.{label}.conditions: {missing[0]!r} is not a condition")
         return self
+
+    def _counts(self) -> dict[str, int]:
+        """The counts whose product is the run's number of jobs, by the key that sets each (goals
+        ``all`` count once here: the grid is known when the run is planned)."""
+        goals: dict[str, int] = {}
+        if isinstance(self.goals, list):
+            goals = {"goals": len(self.goals)}
+        elif isinstance(self.goals, RandomGoals):
+            goals = {"goals.random": self.goals.random}
+        conditions = len(self.databases) ** 2 if self.conditions == "all" else len(self.conditions)
+        return {
+            "seeds": len(self.seeds) or 1,
+            "styles": len(self.styles) or 1,
+            "conditions": conditions,
+            "methods": sum(entry.n_points for entry in self.methods),
+            **goals,
+        }
 
     def condition_pairs(self) -> list[tuple[str, str, str]]:
         """(condition, current alias, goal alias) for every condition ("all": every ordered pair

@@ -21,6 +21,12 @@ class DataError(HomebenchError):
     """A grid database is missing, incomplete, corrupt or inconsistent."""
 
 
+class WriteError(DataError):
+    """A file or folder that cannot be written (a full disk, a read-only file system, a file
+    where a folder should be): the environment's fault, never a job's, so it stops a run
+    without recording any job as failed."""
+
+
 class UnknownDatabaseError(DataError):
     """A database name that no manifest describes."""
 

@@ -25,7 +25,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.errors import CorruptImageError, DataError, ImageSizeError
+from homebench.errors import CorruptImageError, DataError, ImageSizeError, WriteError
 from homebench.image_header import MAX_IMAGE_PIXELS, ImageHeader, read_header, truncation
 from homebench.orphans import TMP_SUFFIX, lock, locked_folder, sweep_once
 
@@ -107,7 +107,7 @@ def atomic_write(path: Path, mode: str = "wb") -> Iterator[IO]:
 
     On any exception (KeyboardInterrupt included) the temporary file is removed and the
     exception propagates; ``path`` is then untouched. An OS error (disk full, no permission)
-    becomes a DataError naming ``path``. ``mode`` is "wb" or "w" (UTF-8 text). The temporary
+    becomes a WriteError naming ``path``. ``mode`` is "wb" or "w" (UTF-8 text). The temporary
     file is locked until it is renamed (see homebench.orphans).
     """
     if mode not in ("wb", "w"):
@@ -117,7 +117,7 @@ def atomic_write(path: Path, mode: str = "wb") -> Iterator[IO]:
         sweep_once(path.parent)
         fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=TMP_SUFFIX, dir=path.parent)
     except OSError as error:
-        raise DataError(f"{path}: cannot write ({error.strerror or error})") from error
+        raise WriteError(f"{path}: cannot write ({error.strerror or error})") from error
     tmp = Path(tmp_name)
     try:
         lock(fd)
@@ -130,11 +130,26 @@ def atomic_write(path: Path, mode: str = "wb") -> Iterator[IO]:
             os.replace(tmp, path)  # before the file is closed: its lock is held until renamed
     except OSError as error:
         tmp.unlink(missing_ok=True)
-        raise DataError(f"{path}: cannot write ({error.strerror or error})") from error
+        raise WriteError(f"{path}: cannot write ({error.strerror or error})") from error
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
     _fsync_directory(path.parent)
+
+
+def make_folder(path: Path) -> Path:
+    """Create the folder ``path`` and its parents where missing; ``path``. WriteError naming
+    the path when that fails: "runs/x: is a file, not a folder", "runs/x: cannot create the
+    folder (No space left on device)"."""
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        blocker = next((p for p in (path, *path.parents) if p.is_file()), path)
+        raise WriteError(f"{blocker}: is a file, not a folder") from None
+    except OSError as error:
+        raise WriteError(f"{path}: cannot create the folder ({error.strerror or error})") from None
+    return path
 
 
 def write_bytes_atomic(path: Path, data: bytes) -> None:
@@ -286,20 +301,30 @@ def _to_grey_uint8(image: NDArray, path: Path) -> NDArray[np.uint8]:
 MAX_RECORD_BYTES = 64 << 20
 
 
-def read_record_text(path: Path) -> str:
-    """The text of a result record; ValueError when it is larger than MAX_RECORD_BYTES (checked
-    before reading), OSError when it cannot be read."""
+def read_record_text(path: Path, limit: int | None = None) -> str:
+    """The text of a result record; ValueError when it is larger than ``limit`` bytes (default
+    :data:`MAX_RECORD_BYTES`; checked before reading), OSError when it cannot be read."""
+    limit = MAX_RECORD_BYTES if limit is None else limit
     size = Path(path).stat().st_size
-    if size > MAX_RECORD_BYTES:
-        raise ValueError(f"larger than {MAX_RECORD_BYTES} bytes")
+    if size > limit:
+        raise ValueError(f"larger than {limit} bytes")
     return Path(path).read_text(encoding="utf-8")
+
+
+def parse_json(text: str | bytes) -> Any:
+    """The value of the JSON ``text``; ValueError when it is not JSON (or nested too deeply for
+    the parser: a file of 100,000 ``[`` is no crash)."""
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise ValueError("JSON nested too deeply") from None
 
 
 def read_json_record(path: Path, key: str) -> dict[str, Any] | None:
     """The JSON object in ``path`` whose "key" is ``key``; None if the file is missing,
     unreadable, corrupt, too large, or holds another key (so the caller recomputes it)."""
     try:
-        record = json.loads(read_record_text(path))
+        record = parse_json(read_record_text(path))
     except (OSError, ValueError):
         return None
     if not isinstance(record, dict) or record.get("key") != key:

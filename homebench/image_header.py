@@ -38,6 +38,14 @@ _PNM_SPACE = re.compile(rb"(?:\s|#[^\r\n]*)*")  # whitespace and comments betwee
 _PNM_NUMBER = re.compile(rb"\d+")
 
 
+def size_problem(width: int, height: int) -> str:
+    """Why a ``width`` x ``height`` image is too large: more than :data:`MAX_IMAGE_PIXELS`
+    (every image homebench generates, unfolds or reads is held to it); "" when it is not."""
+    if width * height <= MAX_IMAGE_PIXELS:
+        return ""
+    return f"a {width} x {height} image has more than the {MAX_IMAGE_PIXELS:,} pixels allowed"
+
+
 @dataclass(frozen=True)
 class ImageHeader:
     """What a header says: the format, the size and, for a binary PNM, the pixel bytes' end."""

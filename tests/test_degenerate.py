@@ -49,8 +49,27 @@ def _home(name: str, current: View, goal: View) -> HomingEstimate:
 
 
 def _assert_no_nan(estimate: HomingEstimate) -> None:
-    for value in (estimate.angle, estimate.rotation):
-        assert value is None or math.isfinite(value)
+    """Every number of ``estimate`` is finite or None: its angle, rotation and score, its
+    landmark count and the numbers among its diagnostics."""
+    diagnostics = {k: v for k, v in estimate.diagnostics.items() if isinstance(v, float | int)}
+    numbers = {"angle": estimate.angle, "rotation": estimate.rotation, "score": estimate.score}
+    for name, value in {**numbers, **diagnostics}.items():
+        assert value is None or math.isfinite(value), (name, value)
+    assert isinstance(estimate.n_landmarks, int) and estimate.n_landmarks >= 0
+
+
+@pytest.mark.parametrize(
+    "estimate",
+    [
+        HomingEstimate(None, score=math.nan),
+        HomingEstimate(0.5, rotation=math.inf),
+        HomingEstimate(None, diagnostics={"psi": math.nan}),
+        HomingEstimate(None, n_landmarks=-1),
+    ],
+)
+def test_the_estimate_check_catches_a_nan(estimate: HomingEstimate) -> None:
+    with pytest.raises(AssertionError):
+        _assert_no_nan(estimate)
 
 
 @pytest.mark.parametrize("name", BUILT_IN)
@@ -61,8 +80,8 @@ def test_texture_less_views_give_no_estimate(name: str) -> None:
     )  # fmt: skip
     flat = _view(kind, np.full(shape, 97, np.uint8))
     estimate = _home(name, flat, flat)
-    assert estimate.angle is None
     _assert_no_nan(estimate)
+    assert estimate.angle is None
 
 
 @pytest.mark.parametrize("name", BUILT_IN)
@@ -120,8 +139,13 @@ _OPTIONAL = {
 } | {"score", "error", *_TIMES}
 
 
+#: How a non-finite number may be spelt in a CSV cell.
+_NON_FINITE = {"nan", "inf", "-inf", "+inf", "infinity", "-infinity"}
+
+
 def _assert_empty_only_where_nothing_was_measured(tables: Path) -> None:
-    """pandas writes NaN as an empty field: an empty cell is a NaN that reached the table.
+    """pandas writes NaN as an empty field: an empty cell is a NaN that reached the table, and
+    infinities are written out ("inf", "-inf").
 
     Allowed: the style and seed columns (a run that sweeps neither), and in pairs.csv the
     estimate's columns of pairs without an estimate. Every summary cell is filled (every method
@@ -139,8 +163,8 @@ def _assert_empty_only_where_nothing_was_measured(tables: Path) -> None:
             # a method without rotations has no rotation error
             stray = empty.drop(columns=[c for c in empty if c.startswith("rotation_error")]).any()
         assert not stray.any(), f"{name}: empty cells in {list(stray[stray].index)}"
-        text = (tables / name).read_text().lower()
-        assert "nan" not in text and "inf" not in text
+        spelled = cells.apply(lambda column: column.str.lower().isin(_NON_FINITE)).any()
+        assert not spelled.any(), f"{name}: non-finite numbers in {list(spelled[spelled].index)}"
 
 
 def test_the_table_check_catches_a_nan(tmp_path: Path) -> None:
@@ -159,9 +183,15 @@ def test_the_table_check_catches_a_nan(tmp_path: Path) -> None:
     summary.assign(mean_ae_deg=[float("nan")]).to_csv(tmp_path / "summary.csv", index=False)
     with pytest.raises(AssertionError, match="summary.csv"):
         _assert_empty_only_where_nothing_was_measured(tmp_path)
+    summary.assign(mean_ae_deg=[float("-inf")]).to_csv(tmp_path / "summary.csv", index=False)
+    with pytest.raises(AssertionError, match="summary.csv: non-finite numbers in .'mean_ae_deg'"):
+        _assert_empty_only_where_nothing_was_measured(tmp_path)
     summary.to_csv(tmp_path / "summary.csv", index=False)
     pairs.assign(truth_rad=[0.4, float("nan")]).to_csv(tmp_path / "pairs.csv", index=False)
     with pytest.raises(AssertionError, match="truth_rad"):
+        _assert_empty_only_where_nothing_was_measured(tmp_path)
+    pairs.assign(estimate_rad=[float("inf"), None]).to_csv(tmp_path / "pairs.csv", index=False)
+    with pytest.raises(AssertionError, match="pairs.csv: non-finite numbers in .'estimate_rad'"):
         _assert_empty_only_where_nothing_was_measured(tmp_path)
 
 

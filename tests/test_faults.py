@@ -7,18 +7,22 @@ and only ``--retry-failed`` runs them again.
 
 from __future__ import annotations
 
-import errno
 import json
+import os
+import re
+import shutil
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import run_config
+from conftest import arena_config, run_config
+from mounts import tmpfs
 from plugins import Plugin, install_plugin
 
 from homebench.errors import DataError
@@ -178,15 +182,64 @@ def test_the_summary_counts_a_failed_job_as_failed(
     assert len(list((tmp_path / "run" / "jobs").glob("*.json"))) == 5
 
 
-def test_disk_full_names_the_path_and_leaves_no_file(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    target = tmp_path / "result.json"
+PAGE = 4096
 
-    def full(fd: int) -> None:
-        raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr("homebench.fileio.os.fsync", full)
+@pytest.fixture
+def small_disk(tmp_path: Path) -> Iterator[Path]:
+    """A real 1 MB file system (tmpfs) at ``tmp_path / "disk"``; skips where none can be
+    mounted (mounting needs root)."""
+    folder = tmp_path / "disk"
+    folder.mkdir()
+    with tmpfs(folder, "size=1m") as problem:
+        if problem:
+            pytest.skip(problem)
+        yield folder
+
+
+def _fill(disk: Path, free_pages: int) -> Path:
+    """Fill ``disk`` up to ``free_pages`` free pages of 4 KiB with one file; that file."""
+    filler = disk / "filler"
+    usage = os.statvfs(disk)
+    filler.write_bytes(bytes(usage.f_bavail * usage.f_frsize - free_pages * PAGE))
+    return filler
+
+
+def test_a_full_disk_names_the_path_and_leaves_no_file(small_disk: Path) -> None:
+    _fill(small_disk, 0)
+    target = small_disk / "result.json"
     with pytest.raises(DataError, match=r"result\.json: cannot write \(No space left on device\)"):
-        write_text_atomic(target, json.dumps({"a": 1}))
-    assert list(tmp_path.iterdir()) == []
+        write_text_atomic(target, json.dumps({"a": "x" * 100_000}))
+    assert sorted(p.name for p in small_disk.iterdir()) == ["filler"]
+
+
+@pytest.mark.parametrize(
+    ("lost", "free_pages"), [(("features", "jobs"), 4), (("jobs",), 2)], ids=["describe", "home"]
+)
+def test_a_full_disk_stops_the_run_and_a_plain_rerun_recomputes(
+    tmp_path: Path, arena_manifest: Path, small_disk: Path, lost: tuple[str, ...], free_pages: int
+) -> None:
+    """A run on a disk with room for its metadata only (a few pages of 4 KiB) stops with one
+    line as it writes features (20 of a page each) or results (3 pages each), records no
+    failure and no pair error, and once there is room a plain rerun (no --retry-failed)
+    finishes."""
+    config = arena_config(tmp_path, arena_manifest, methods=[{"method": "warping"}])
+    config["output"] = str(small_disk / "run")
+    assert run_config(tmp_path, config).exit_code == 0
+    run_dir = small_disk / "run"
+    for folder in lost:
+        shutil.rmtree(run_dir / folder)
+    filler = _fill(small_disk, free_pages)
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 2, result.output
+    (line,) = result.stderr.splitlines()
+    assert line.startswith(f"homebench: error: {run_dir / lost[0]}/")
+    assert line.endswith("(No space left on device)")
+    assert not list(run_dir.glob("failures/*"))
+    for job in run_dir.glob("jobs/*.json"):
+        assert not any(row["error"] for row in json.loads(job.read_text())["rows"])
+    filler.unlink()
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    computed, reused = re.search(r"(\d+) job\(s\) computed, (\d+) reused", result.stdout).groups()
+    assert int(computed) >= 1 and int(computed) + int(reused) == 2

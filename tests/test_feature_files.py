@@ -3,9 +3,13 @@ come back only from an allowlist. A corrupt or unsafe feature file is recomputed
 
 from __future__ import annotations
 
+import io
+import json
 import math
 import os
 import pickle
+import tracemalloc
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -191,3 +195,59 @@ def test_a_planted_pickle_never_runs_and_a_corrupt_file_is_recomputed(
     assert "2 job(s) computed, 0 reused" in result.stdout
     assert not marker.exists()
     assert feature_files and feature_files[0].read_bytes()[:2] == b"PK"  # recomputed
+
+
+def _bomb(path: Path, key: str, inflated: int) -> None:
+    """A feature file of ``key`` whose one array, deflated to a few KB, inflates to
+    ``inflated`` bytes (homebench writes its feature files uncompressed)."""
+    structure = {"format": 1, "key": key, "describe_ms": 1.0, "features": {"array": 0}}
+    text = np.frombuffer(json.dumps(structure).encode(), dtype=np.uint8)
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(
+        header, {"descr": "|u1", "fortran_order": False, "shape": (inflated,)}
+    )
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
+        with archive.open("structure.npy", "w") as member:
+            np.lib.format.write_array(member, text)
+        with archive.open("a0.npy", "w", force_zip64=True) as member:
+            member.write(header.getvalue())
+            chunk = bytes(16 << 20)
+            for start in range(0, inflated, len(chunk)):
+                member.write(chunk[: inflated - start])
+
+
+@pytest.mark.parametrize("key", ["k", "other key"])
+def test_a_deflated_bomb_is_refused_before_it_inflates(tmp_path: Path, key: str) -> None:
+    """The key and the members' sizes are checked in the zip directory: nothing inflates."""
+    path = tmp_path / "bomb.npz"
+    _bomb(path, key, 256 << 20)
+    assert path.stat().st_size < 2 << 20
+    tracemalloc.start()
+    try:
+        with pytest.raises(DataError, match="bomb.npz: unusable feature file"):
+            load_features(path, "k")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 32 << 20
+
+
+def test_a_feature_file_that_exhausts_a_worker_is_recomputed(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """A 3 MB file inflating to 1.5 GB failed every pair reading it (a worker of 1 GB), and a
+    --retry-failed again: only --force helped. It is recomputed, and the run succeeds."""
+    config = arena_config(
+        tmp_path, arena_manifest, methods=[{"method": "warping"}], worker_memory_mb=1024
+    )
+    assert run_config(tmp_path, config).exit_code == 0
+    run_dir = tmp_path / "run"
+    victim = sorted((run_dir / "features").rglob("*.npz"))[0]
+    with np.load(victim) as archive:
+        key = json.loads(archive["structure"].tobytes())["key"]
+    _bomb(victim, key, 3 << 29)
+    for job in (run_dir / "jobs").glob("*.json"):
+        job.unlink()
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    assert load_features(victim, key, from_disk=True).features is not None

@@ -7,12 +7,13 @@ import errno
 import os
 import shutil
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner, Result
 from conftest import arena_config, run_config
+from mounts import tmpfs
 
 from homebench.cli import main
 from homebench.data.manifest import load_manifest
@@ -122,6 +123,29 @@ def test_a_huge_grid_or_image_size_is_refused(
         load_manifest(path)
 
 
+@pytest.mark.parametrize(
+    ("config", "override", "key"),
+    [
+        ("klt_route.yaml", "routes.0.waypoints.1=[.nan, 2.0]", "routes[0].waypoints[1][0]"),
+        ("klt_route.yaml", "routes.0.heading_deg=.inf", "routes[0].heading_deg"),
+        ("closed_loop.yaml", "goals.0={at: [1.0, .nan]}", "goals[0].at[1]"),
+        ("closed_loop.yaml", "starts.region=[0.2, 1.4, .inf, 3.4]", "region[2]"),
+    ],
+)
+def test_a_point_that_is_not_a_number_is_refused(
+    tmp_path: Path, config: str, override: str, key: str
+) -> None:
+    """A NaN waypoint was "cannot convert float NaN to integer", exit 1."""
+    path = Path(__file__).resolve().parent.parent / "configs" / config
+    code, _, err = _invoke(
+        "run", str(path), override, f"output={tmp_path / 'run'}", "--no-progress", "--no-report"
+    )
+    assert code == 2
+    line = _one_error_line(err)
+    assert f"{key}: Input should be a finite number" in line
+    assert not (tmp_path / "run").exists()
+
+
 # ------------------------------------------------------------------ run folders and image folders
 
 
@@ -140,43 +164,33 @@ def _no_jobs_ran(run_dir: Path) -> bool:
     return not any((run_dir / folder).exists() for folder in ("jobs", "features", "tables"))
 
 
-def test_a_run_folder_that_is_a_file(tmp_path: Path, database: Path) -> None:
+@pytest.mark.parametrize("output", ["run", "run/deeper"])
+def test_a_run_folder_that_is_a_file(tmp_path: Path, database: Path, output: str) -> None:
+    """Said as it is, not as the lock file it could not create inside."""
     (tmp_path / "run").write_text("my notes\n")
-    result = _run(tmp_path, database)
+    result = _run(tmp_path, database, output=str(tmp_path / output))
     assert result.exit_code == 2
-    assert str(tmp_path / "run") in _one_error_line(result.stderr)
+    line = _one_error_line(result.stderr)
+    assert line == f"homebench: error: {tmp_path / 'run'}: is a file, not a folder"
     assert (tmp_path / "run").read_text() == "my notes\n"
 
 
 @pytest.fixture
-def read_only(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    """A folder in which nothing can be created, as on a read-only file system: chmod'ed when
-    not root, else os.mkdir and os.open (which mkstemp uses) fail there with EROFS."""
+def read_only(tmp_path: Path) -> Iterator[Path]:
+    """A folder in which nothing can be created: a read-only file system (a tmpfs mounted
+    read-only), or, where none can be mounted, a folder without write permission (which root
+    ignores: then the test skips)."""
     folder = tmp_path / "read-only"
     folder.mkdir()
-    if os.geteuid() != 0:
-        folder.chmod(0o555)
-        yield folder
-        folder.chmod(0o755)
-        return
-    real_open, real_mkdir = os.open, os.mkdir
-
-    def refuse(path: object) -> None:
-        if Path(os.fspath(path)).absolute().is_relative_to(folder):
-            raise OSError(errno.EROFS, os.strerror(errno.EROFS), os.fspath(path))
-
-    def fake_open(path: object, flags: int, *args: object, **kwargs: object) -> int:
-        if flags & (os.O_CREAT | os.O_WRONLY | os.O_RDWR):
-            refuse(path)
-        return real_open(path, flags, *args, **kwargs)
-
-    def fake_mkdir(path: object, *args: object, **kwargs: object) -> None:
-        refuse(path)
-        real_mkdir(path, *args, **kwargs)
-
-    monkeypatch.setattr(os, "open", fake_open)
-    monkeypatch.setattr(os, "mkdir", fake_mkdir)
+    with tmpfs(folder, "ro,size=64k") as problem:
+        if not problem:
+            yield folder
+            return
+    if os.geteuid() == 0:
+        pytest.skip(problem)
+    folder.chmod(0o555)
     yield folder
+    folder.chmod(0o755)
 
 
 def test_a_run_folder_on_a_read_only_file_system(
@@ -221,6 +235,25 @@ def test_a_run_over_a_symlink_loop(tmp_path: Path, database: Path) -> None:
     assert _no_jobs_ran(tmp_path / "run")
 
 
+@pytest.mark.parametrize("command", ["verify", "run"])
+def test_an_image_that_is_a_symlink_loop_is_named(
+    tmp_path: Path, database: Path, command: str
+) -> None:
+    """It was "no image for grid position (2,3)"."""
+    victim = database.parent / "pano" / "p2-3.png"
+    victim.unlink()
+    victim.symlink_to(victim.name)
+    if command == "verify":
+        code, _, err = _invoke("data", "verify", str(database))
+    else:
+        result = _run(tmp_path, database)
+        code, err = result.exit_code, result.stderr
+    assert code == 2
+    assert _one_error_line(err) == (
+        f"homebench: error: {victim}: cannot open the image (Too many levels of symbolic links)"
+    )
+
+
 def test_an_unreachable_dask_scheduler_is_one_line(tmp_path: Path, database: Path) -> None:
     import distributed  # noqa: F401  (the test extra installs it: a missing package must fail)
 
@@ -230,6 +263,17 @@ def test_an_unreachable_dask_scheduler_is_one_line(tmp_path: Path, database: Pat
     assert result.exit_code == 2
     assert "tcp://127.0.0.1:1" in _one_error_line(result.stderr)
     assert _no_jobs_ran(tmp_path / "run")
+
+
+@pytest.mark.parametrize("address", ["not a url", "tcp://", "tcp://host:port"])
+def test_a_scheduler_address_that_is_none_is_a_usage_error(
+    tmp_path: Path, database: Path, address: str
+) -> None:
+    result = _run(tmp_path, database, "--backend", "dask", "--scheduler", address)
+    assert result.exit_code == 2
+    line = _one_error_line(result.stderr)
+    assert f"--scheduler {address!r}: not an address of a Dask scheduler" in line
+    assert not (tmp_path / "run").exists()
 
 
 def test_an_os_error_anywhere_is_one_line_naming_the_file(monkeypatch: pytest.MonkeyPatch) -> None:

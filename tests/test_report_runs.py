@@ -124,6 +124,8 @@ def write_fake_run(
                     "method": method.label,
                     "method_name": "fake",
                     "params": {},
+                    "compass": "none",
+                    "code_version": "fake",
                     "current_database": condition.split("-")[0],
                     "goal_database": condition.split("-")[1],
                     "current_database_key": f"db-{condition.split('-')[0]}-{world}",

@@ -3,14 +3,18 @@ arrays for every pair must not pay the kernel's page faults for them every time.
 
 from __future__ import annotations
 
+import json
+import os
 import resource
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
+import yaml
+from conftest import arena_config
 
-from homebench.evaluation.isolation import WorkerPool
+from homebench.evaluation.isolation import MIN_DEFAULT_MEMORY_MB, WorkerPool, default_memory_mb
 
 CYCLES = 10
 
@@ -32,10 +36,12 @@ def faults_per_cycle(megabytes: int | None = None) -> float:
 
 
 def _in_fresh_process(keep: bool, megabytes: int = 30) -> float:
+    """Page faults per cycle (:func:`faults_per_cycle`) in a new process, which first asks to
+    keep freed memory when ``keep`` (and fails unless that works)."""
+    setup = "from homebench.evaluation.worker import keep_freed_memory as k; assert k(); "
     script = (
         "import sys; sys.path.insert(0, sys.argv[1]); import test_worker_memory as t; "
-        "from homebench.evaluation.worker import keep_freed_memory; "
-        f"assert {not keep} or keep_freed_memory(); print(t.faults_per_cycle({megabytes}))"
+        f"{setup if keep else ''}print(t.faults_per_cycle({megabytes}))"
     )
     tests = str(Path(__file__).parent)
     command = [sys.executable, "-c", script, tests]
@@ -58,3 +64,56 @@ def test_isolated_workers_keep_freed_memory() -> None:
     with WorkerPool(1) as pool:
         ((_, faults),) = pool.map_unordered(faults_per_cycle, [None])
     assert faults < 50
+
+
+PHYSICAL_MB = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") >> 20
+
+
+def test_the_default_leaves_room_for_the_main_process() -> None:
+    """Two workers at physical memory / 2 each added up to all of it."""
+    shares = [w for w in (1, 2, 4) if PHYSICAL_MB // (w + 1) >= MIN_DEFAULT_MEMORY_MB]
+    for workers in shares:
+        assert default_memory_mb(workers) * (workers + 1) <= PHYSICAL_MB
+
+
+def _run_limited(tmp_path: Path, manifest: Path, limit_mb: int, **changes: object) -> tuple:
+    """`homebench run` of the arena config in a process with an address-space limit of
+    ``limit_mb`` (as a batch system's ``ulimit -v``): (exit code, stderr)."""
+    config = arena_config(tmp_path, manifest, methods=[{"method": "warping"}], jobs=1, **changes)
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config))
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (limit_mb << 20, limit_mb << 20))
+
+    done = subprocess.run(
+        [sys.executable, "-m", "homebench", "run", str(path), "--no-progress", "--no-report"],
+        capture_output=True, text=True, timeout=240, preexec_fn=limit, check=False,
+    )  # fmt: skip
+    return done.returncode, done.stderr
+
+
+#: An inherited limit below the default a worker would otherwise get (all of memory for one).
+INHERITED_MB = max(3072, PHYSICAL_MB // 2)
+
+
+def test_an_inherited_address_space_limit_bounds_the_default(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """Every run under `ulimit -v` broke with "not allowed to raise maximum limit"."""
+    code, err = _run_limited(tmp_path, arena_manifest, INHERITED_MB)
+    assert code == 0, err
+    resolved = json.loads((tmp_path / "run" / "config.resolved.json").read_text())
+    assert resolved["worker_memory_mb"] <= INHERITED_MB
+
+
+def test_a_worker_limit_above_the_inherited_one_says_what_to_set(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    code, err = _run_limited(
+        tmp_path, arena_manifest, INHERITED_MB, worker_memory_mb=INHERITED_MB + 1024
+    )
+    assert code == 2
+    (line,) = err.splitlines()
+    assert line.startswith("homebench: error: ") and "worker_memory_mb" in line
+    assert f"at most {INHERITED_MB}" in line

@@ -76,6 +76,7 @@ class GridDatabase:
         """
         path = self.path(i, j, kind)
         if not path.is_file():
+            self._check_unopenable(kind, [(i, j)])
             raise MissingImagesError(path.parent, [(i, j)])
         return read_grey(path, self.manifest.section(kind).size)
 
@@ -113,6 +114,7 @@ class GridDatabase:
             if missing:
                 folder = self.root / self.manifest.section(kind).folder
                 self._check_folder(folder, kind)
+                self._check_unopenable(kind, missing)
                 raise MissingImagesError(Path(os.path.abspath(folder)), missing)
 
     def _check_folder(self, folder: Path, kind: str) -> None:
@@ -126,6 +128,22 @@ class GridDatabase:
             raise DataError(f"{folder}: cannot open {what} ({error.strerror or error})") from None
         if not stat.S_ISDIR(mode):
             raise DataError(f"{folder}: {what} is not a folder")
+
+    def _check_unopenable(self, kind: str, positions: list[tuple[int, int]]) -> None:
+        """DataError naming the first file of an image at ``positions`` that is there but
+        cannot be opened (a symbolic link loop): such an image is not missing."""
+        section = self.manifest.section(kind)
+        for i, j in positions:
+            for name in section.file_names(i, j):
+                path = self.root / section.relative_path(name)
+                try:
+                    os.stat(path)
+                except FileNotFoundError:  # no file, or a link to none: missing
+                    continue
+                except OSError as error:
+                    raise DataError(
+                        f"{path}: cannot open the image ({error.strerror or error})"
+                    ) from None
 
     def check_images(self, kinds: tuple[str, ...]) -> None:
         """Check every image of ``kinds`` without decoding it: present, in a known format, of the

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from tqdm import tqdm
 
+from homebench.bounds import workers_problem
 from homebench.data.fingerprint import fingerprint
 from homebench.data.manifest import (
     SCHEMA_VERSION,
@@ -220,7 +221,11 @@ def generate_many(
     workers, so that no world waits for the last positions of the one before it; each world's
     ground truth is a task of the pool too. ``progress(done, total)`` counts all positions;
     ``on_start()`` is called before rendering begins (never when no world is to be rendered).
+    ConfigError when ``jobs`` is no number of workers.
     """
+    problem = workers_problem(jobs)
+    if problem:
+        raise ConfigError(problem)
     pending = _pending(generations)
     if pending:
         if on_start is not None:

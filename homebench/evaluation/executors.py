@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal, Protocol
 
+from homebench.bounds import workers_problem
 from homebench.config import MethodEntry
 from homebench.errors import ConfigError
 from homebench.evaluation.isolation import (
@@ -24,7 +25,9 @@ from homebench.evaluation.isolation import (
     Limits,
     WorkerPool,
     default_memory_mb,
+    memory_problem,
     run_isolated,
+    within_inherited,
 )
 from homebench.evaluation.jobs import JobOutcome
 from homebench.methods import registry
@@ -48,7 +51,8 @@ class Execution:
     """How jobs run: ``jobs`` local workers, or a Dask cluster (``backend="dask"`` at
     ``scheduler``, or a local cluster of ``jobs`` workers); ``shard = (i, n)`` runs only the
     i-th of n deterministic parts of the plan (1-based). Each job may take ``timeout_s`` and its
-    worker ``memory_mb`` (None: physical memory / workers, at least 2 GiB).
+    worker ``memory_mb`` (None: physical memory / (workers + 1), at least 2 GiB, at most the
+    inherited limit: see :func:`~homebench.evaluation.isolation.default_memory_mb`).
     ``retry_failed`` runs jobs that failed before (and jobs with failed pairs) again."""
 
     jobs: int = 1
@@ -60,14 +64,20 @@ class Execution:
     retry_failed: bool = False
 
     def __post_init__(self) -> None:
-        if self.jobs == 0 or self.jobs < -1:
-            raise ConfigError("jobs must be a positive number, or -1 for all cores")
+        problem = workers_problem(self.jobs)
+        if problem:
+            raise ConfigError(problem)
         if self.shard is not None and not 1 <= self.shard[0] <= self.shard[1]:
             raise ConfigError(f"shard {self.shard[0]}/{self.shard[1]}: need 1 <= i <= n")
         if self.scheduler is not None and self.backend != "dask":
             raise ConfigError("a scheduler address needs --backend dask")
+        if self.scheduler is not None:
+            _check_address(self.scheduler)
         if self.timeout_s is not None and self.timeout_s <= 0:
             raise ConfigError("the job timeout must be positive (seconds)")
+        problem = memory_problem(self.memory_mb) if self.scheduler is None else ""
+        if problem:  # workers here inherit this process's limit; a cluster's have their own
+            raise ConfigError(problem)
 
     @property
     def workers(self) -> int:
@@ -83,6 +93,22 @@ class Execution:
             return set(ordered)
         index, count = self.shard
         return set(ordered[index - 1 :: count])
+
+
+def _check_address(address: str) -> None:
+    """ConfigError unless ``address`` is a Dask scheduler's (host and port, "tcp://h:8786");
+    whether one answers there is known on connecting."""
+    try:
+        from distributed.comm.addressing import get_address_host_port
+    except ImportError:  # said when the cluster is opened
+        return
+    try:
+        get_address_host_port(address)
+    except ValueError as error:
+        raise ConfigError(
+            f"--scheduler {address!r}: not an address of a Dask scheduler ({error}); give "
+            "HOST:PORT or tcp://HOST:PORT"
+        ) from None
 
 
 class Executor(Protocol):
@@ -146,12 +172,14 @@ class _Dask:
 
 def _dask_limits(client: Any, execution: Execution) -> Limits:
     """The memory limit of a job on the cluster: as given, else the smallest Dask worker's
-    memory per thread (all physical memory without Dask limits)."""
+    memory per thread (a local cluster's: at most the inherited limit)."""
     memory = execution.memory_mb
     if memory is None:
         workers = client.scheduler_info().get("workers", {}).values()
         shares = [w["memory_limit"] // w["nthreads"] for w in workers if w.get("memory_limit")]
         memory = min(shares) // (1024 * 1024) if shares else default_memory_mb(1)
+        if execution.scheduler is None:  # a local cluster's workers inherit this one's limit
+            memory = within_inherited(memory)
     return Limits(execution.timeout_s, memory)
 
 

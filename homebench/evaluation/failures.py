@@ -14,7 +14,8 @@ from dataclasses import asdict, dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 
-from homebench.fileio import read_json_record, write_text_atomic
+from homebench.evaluation.records import FAILURE, read_record
+from homebench.fileio import make_folder, write_text_atomic
 
 FAILURES_DIR = "failures"
 
@@ -36,14 +37,12 @@ def failure_path(run_dir: Path, key: str) -> Path:
 
 
 def read_failure(run_dir: Path, key: str) -> Failure | None:
-    """The failure record of job ``key``, or None (no record, or an unreadable one)."""
-    record = read_json_record(failure_path(run_dir, key), key)
+    """The failure record of job ``key``, or None (no record, or one that is unreadable or
+    does not fit its schema)."""
+    record = read_record(FAILURE, failure_path(run_dir, key), key)
     if record is None:
         return None
-    try:
-        return Failure(**{name: record[name] for name in Failure.__dataclass_fields__})
-    except KeyError:
-        return None
+    return Failure(**{name: record[name] for name in Failure.__dataclass_fields__})
 
 
 def record_failure(run_dir: Path, kind: str, key: str, job: str, cause: str) -> Failure:
@@ -52,7 +51,7 @@ def record_failure(run_dir: Path, kind: str, key: str, job: str, cause: str) -> 
     failure = Failure(kind, key, job, cause, 1 + (previous.attempts if previous else 0))
     record = {**asdict(failure), "time": datetime.now(UTC).isoformat(timespec="seconds")}
     path = failure_path(run_dir, key)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(path.parent)
     write_text_atomic(path, json.dumps(record, indent=1) + "\n")
     return failure
 

@@ -14,7 +14,11 @@ A run folder is something people share, so reading one must never run code. What
 
 The file is an uncompressed npz: arrays ``a0``, ``a1``, ... and ``structure`` (the JSON text as
 UTF-8 bytes), loaded with ``allow_pickle=False``. It also holds the feature key, so a file of
-other inputs (or a torn, corrupt or crafted one) is refused and its features recomputed.
+other inputs (or a torn, corrupt or crafted one) is refused and its features recomputed. A file
+is read in an order that never inflates what it should not: its size, then the zip directory
+(every member stored, as homebench writes them: a member's bytes are then its bytes in the
+file), then the structure and its key, then each array's header against its member's size, and
+only then the arrays.
 
 A process keeps the files it read last in memory (:data:`RECENT_BYTES` of arrays, by path,
 trusted while they hold the key asked for), since a run's home jobs read every current view's
@@ -28,6 +32,7 @@ import functools
 import io
 import json
 import math
+import os
 import zipfile
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -37,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from homebench.errors import DataError
-from homebench.fileio import write_bytes_atomic
+from homebench.fileio import make_folder, open_regular, write_bytes_atomic
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
 from homebench.methods import registry
 from homebench.methods.klt_sector import KltFeatures
@@ -46,6 +51,10 @@ from homebench.methods.sift import SiftFeatures
 FORMAT = 1
 #: Bytes of feature arrays a process keeps from the files it read last.
 RECENT_BYTES = 128 * 1024 * 1024
+#: Largest feature file read (a method's features of one image are well under 100 MB) and
+#: largest JSON structure in one.
+MAX_FILE_BYTES = 1 << 30
+MAX_STRUCTURE_BYTES = 64 << 20
 #: homebench's own classes that features may hold.
 BUILT_IN = (SiftFeatures, KltFeatures, PanoramaGeometry, CatadioptricGeometry)
 
@@ -159,7 +168,8 @@ def _hashable(key: Any) -> Any:
 
 def save_features(path: Path, key: str, features: Any, describe_ms: float) -> None:
     """Write ``features`` (and the time ``describe`` took) under ``key`` to ``path``,
-    atomically; DataError for features that cannot be stored."""
+    atomically; DataError for features that cannot be stored, WriteError for a file that
+    cannot be written."""
     encoder = _Encoder()
     structure = {
         "format": FORMAT,
@@ -171,7 +181,7 @@ def save_features(path: Path, key: str, features: Any, describe_ms: float) -> No
     arrays["structure"] = np.frombuffer(json.dumps(structure).encode(), dtype=np.uint8)
     buffer = io.BytesIO()
     np.savez(buffer, allow_pickle=False, **arrays)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(path.parent)
     write_bytes_atomic(path, buffer.getvalue())
 
 
@@ -199,11 +209,7 @@ class _RecentFiles:
                 self.files.move_to_end(path)
                 return remembered[0], remembered[1]
             self.size -= self.files.pop(path)[2]  # read again, or gone if that fails
-        with np.load(path, allow_pickle=False) as archive:
-            arrays = {name: archive[name] for name in archive.files}
-        structure = json.loads(arrays.pop("structure").tobytes())
-        if not isinstance(structure, dict):
-            raise ValueError("its structure is not a JSON object")
+        structure, arrays = _read_file(path, key)
         for array in arrays.values():
             array.flags.writeable = False
         nbytes = sum(array.nbytes for array in arrays.values())
@@ -212,6 +218,56 @@ class _RecentFiles:
         while self.size > self.limit:
             self.size -= self.files.popitem(last=False)[1][2]
         return structure, arrays
+
+
+#: The readers of the .npy headers numpy writes, by version.
+_NPY_HEADERS = {
+    (1, 0): np.lib.format.read_array_header_1_0,
+    (2, 0): np.lib.format.read_array_header_2_0,
+}
+
+
+def _read_file(path: Path, key: str) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """The JSON structure and the arrays of the feature file at ``path`` if it holds the
+    features of ``key`` (see the module docstring for the order of the checks); ValueError,
+    OSError or zipfile.BadZipFile otherwise."""
+    with open_regular(path) as f:
+        if os.fstat(f.fileno()).st_size > MAX_FILE_BYTES:
+            raise ValueError(f"larger than {MAX_FILE_BYTES:,} bytes")
+        with zipfile.ZipFile(f) as archive:
+            members = {m.filename.removesuffix(".npy"): m for m in archive.infolist()}
+            packed = [m.filename for m in members.values() if m.compress_type != zipfile.ZIP_STORED]
+            if packed:
+                raise ValueError(f"{packed[0]} is compressed (homebench writes none)")
+            if "structure" not in members:
+                raise ValueError("no structure")
+            text = _read_member(archive, members.pop("structure"), MAX_STRUCTURE_BYTES)
+            structure = json.loads(text.tobytes())
+            if not isinstance(structure, dict):
+                raise ValueError("its structure is not a JSON object")
+            if structure.get("format") != FORMAT or structure.get("key") != key:
+                raise ValueError("written for other inputs")
+            arrays = {name: _read_member(archive, m, MAX_FILE_BYTES) for name, m in members.items()}
+    return structure, arrays
+
+
+def _read_member(archive: zipfile.ZipFile, member: zipfile.ZipInfo, limit: int) -> np.ndarray:
+    """The array of a stored ``.npy`` member of at most ``limit`` bytes, read once its header
+    is found to describe exactly the member's bytes (a header may claim any shape)."""
+    if member.file_size > limit:
+        raise ValueError(f"{member.filename} is larger than {limit:,} bytes")
+    with archive.open(member) as stream:
+        read_header = _NPY_HEADERS.get(np.lib.format.read_magic(stream))
+        if read_header is None:
+            raise ValueError(f"{member.filename}: not a .npy file of version 1 or 2")
+        shape, fortran, dtype = read_header(stream)
+        if dtype.hasobject:
+            raise ValueError(f"{member.filename} holds Python objects")
+        size = math.prod(shape) * dtype.itemsize
+        if stream.tell() + size != member.file_size:
+            raise ValueError(f"{member.filename}: its header does not match its size")
+        data = np.frombuffer(stream.read(size), dtype=dtype)
+    return data.reshape(shape, order="F" if fortran else "C")
 
 
 _RECENT = _RecentFiles(RECENT_BYTES)
@@ -231,14 +287,12 @@ def load_features(path: Path, key: str, from_disk: bool = False) -> StoredFeatur
         structure, arrays = _RECENT.read(
             path if isinstance(path, Path) else Path(path), key, from_disk
         )
-        if structure.get("format") != FORMAT or structure.get("key") != key:
-            raise ValueError("written for other inputs")
         features = _Decoder(arrays).decode(structure["features"])
         return StoredFeatures(features, _time(structure["describe_ms"]))
     except FileNotFoundError:
         raise DataError(f"{path}: feature file missing") from None
     except (
-        OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError,
+        OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError, MemoryError,
         zipfile.BadZipFile,
     ) as error:  # fmt: skip
         raise DataError(

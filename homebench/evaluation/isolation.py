@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import resource
 import signal
 import socket
 import subprocess
@@ -36,7 +37,8 @@ from homebench.errors import HomebenchError
 
 T = TypeVar("T")
 
-#: The default memory limit of a worker is physical memory / workers, but never below this.
+#: The default memory limit of a worker is physical memory / (workers + 1), the one left for
+#: the main process, but never below this.
 MIN_DEFAULT_MEMORY_MB = 2048
 #: One thread per numeric library in a worker (set before they load).
 THREAD_LIMITS = (
@@ -68,10 +70,36 @@ class Crash:
     cause: str
 
 
+def inherited_memory_mb() -> int | None:
+    """The address-space limit this process inherited (``ulimit -v``: a batch system sets
+    one), MB; None when there is none. No worker may be given more."""
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    return None if soft == resource.RLIM_INFINITY else soft >> 20
+
+
+def within_inherited(memory_mb: int) -> int:
+    """``memory_mb``, or the inherited limit (:func:`inherited_memory_mb`) where it is lower."""
+    inherited = inherited_memory_mb()
+    return memory_mb if inherited is None else min(memory_mb, inherited)
+
+
 def default_memory_mb(workers: int) -> int:
-    """Physical memory divided among ``workers``, at least :data:`MIN_DEFAULT_MEMORY_MB`."""
+    """Physical memory divided among ``workers`` and the main process, at least
+    :data:`MIN_DEFAULT_MEMORY_MB`, at most the inherited limit."""
     total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // (1024 * 1024)
-    return max(MIN_DEFAULT_MEMORY_MB, total // max(1, workers))
+    return within_inherited(max(MIN_DEFAULT_MEMORY_MB, total // (max(1, workers) + 1)))
+
+
+def memory_problem(memory_mb: int | None) -> str:
+    """Why workers here cannot be limited to ``memory_mb``: it is more than the limit they
+    inherit; "" when they can (None, the default, always can)."""
+    inherited = inherited_memory_mb()
+    if memory_mb is None or inherited is None or memory_mb <= inherited:
+        return ""
+    return (
+        f"worker_memory_mb: {memory_mb} MB is above the {inherited} MB address-space limit "
+        f"this process inherited (ulimit -v); set worker_memory_mb to at most {inherited}"
+    )
 
 
 def describe_exit(returncode: int | None, memory_mb: int | None, process: str = "worker") -> str:

@@ -30,7 +30,7 @@ import cv2
 import numpy as np
 import orjson
 
-from homebench.errors import DataError
+from homebench.errors import DataError, WriteError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
 from homebench.evaluation.grid_routes import method_route
 from homebench.evaluation.metrics import angular_errors
@@ -42,8 +42,9 @@ from homebench.evaluation.plan import (
     described,
     neighbour_positions,
 )
+from homebench.evaluation.records import RESULT_FORMAT, ROW_COLUMNS, JobRecord, read_job_record
 from homebench.evaluation.sources import load_view, open_source
-from homebench.fileio import read_json_record, write_bytes_atomic
+from homebench.fileio import make_folder, write_bytes_atomic
 from homebench.geometry import home_direction, world_to_robot_xy
 from homebench.methods.base import HomingEstimate, gives_direction
 from homebench.methods.visual_compass import (
@@ -51,33 +52,6 @@ from homebench.methods.visual_compass import (
     in_current_frame,
     whole_columns,
 )
-
-#: 2: the swept world seed; 3: rows carry an "error"; 4: the swept style; 5: the databases'
-#: identities and whether the method gives a home direction.
-RESULT_FORMAT = 5
-
-
-#: The columns of a pair's row, in order; a failed pair has its ``error`` and no answer.
-ROW_COLUMNS = (
-    "current_i",
-    "current_j",
-    "rotation",
-    "heading",
-    "estimate",
-    "estimate_world",
-    "truth",
-    "ae",
-    "rotation_estimate",
-    "distance_m",
-    "n_landmarks",
-    "route_views",
-    "score",
-    "home_ms",
-    "describe_ms",
-    "goal_describe_ms",
-    "error",
-)
-
 
 T = TypeVar("T")
 
@@ -101,9 +75,13 @@ def timed(method_key: str, call_kind: str, call: Callable[[], T]) -> tuple[T, fl
 
 @dataclass(frozen=True)
 class JobOutcome:
-    kind: str  # "describe" or "home"
+    """What a job did: its ``error`` (None: it succeeded); ``environment`` when that error is
+    a file it could not write (a full disk): no failure of the job, it stops the run."""
+
+    kind: str  # "describe", "home" or a robot experiment's trials
     key: str
     error: str | None = None
+    environment: bool = False
 
 
 def describe_error(error: BaseException) -> str:
@@ -114,10 +92,13 @@ def describe_error(error: BaseException) -> str:
 
 
 def run_safely(kind: str, key: str, work: Any, *args: Any) -> JobOutcome:
-    """Call ``work(*args)`` with OpenCV on one thread; an exception becomes the outcome's error."""
+    """Call ``work(*args)`` with OpenCV on one thread; an exception becomes the outcome's error
+    (a WriteError the environment's)."""
     cv2.setNumThreads(1)
     try:
         work(*args)
+    except WriteError as error:  # the disk's fault: the run stops, the job has not failed
+        return JobOutcome(kind, key, str(error), environment=True)
     except Exception as error:  # reported per job; the run goes on with the others
         return JobOutcome(kind, key, describe_error(error))
     return JobOutcome(kind, key)
@@ -143,7 +124,7 @@ def _has_features(path: Path, key: str) -> bool:
 
 def _describe(job: DescribeJob, run_dir: Path) -> None:
     """Describe every image whose feature file is missing or unusable; then DataError naming
-    the images that failed, if any."""
+    the images that failed, if any (a file that cannot be written stops the job at once)."""
     method = job.method.create()
     failed = []
     for task in job.images:
@@ -154,6 +135,8 @@ def _describe(job: DescribeJob, run_dir: Path) -> None:
             view = load_view(task.source, task.i, task.j, job.method.image_kind, task.rotation)
             features, ms = timed(job.method.key, "describe", lambda v=view: method.describe(v))
             save_features(path, key, features, ms)
+        except WriteError:
+            raise
         except Exception as error:  # the batch's other images go on
             failed.append(f"({task.i}, {task.j}): {describe_error(error)}")
     if failed:
@@ -391,7 +374,7 @@ def _home(job: HomeJob, run_dir: Path) -> None:
         "rows": rows,
     }
     path = job.result_path(run_dir)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(path.parent)
     write_bytes_atomic(path, _result_json(record))
 
 
@@ -412,8 +395,7 @@ def _json_default(value: Any) -> Any:
     raise TypeError(f"cannot write a {type(value).__name__} to a result file")
 
 
-def read_result(path: Path, key: str) -> dict[str, Any] | None:
+def read_result(path: Path, key: str) -> JobRecord | None:
     """A finished job's record, or None if the file is missing, corrupt, of another job or of an
-    older result format."""
-    record = read_json_record(path, key)
-    return record if record is not None and record.get("format") == RESULT_FORMAT else None
+    older result format, or does not fit the record's schema (:mod:`.records`)."""
+    return read_job_record(path, key)

@@ -32,6 +32,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from homebench.bounds import MAX_PAIRS, count_problem
 from homebench.config import RunConfig, SweptWorld
 from homebench.errors import ConfigError
 from homebench.evaluation.code_version import code_version
@@ -275,10 +276,33 @@ def described(job: HomeJob) -> tuple[ImageTask, ...]:
     return (job.goal,) if job.method.compass != "none" else (job.goal, *job.currents)
 
 
+def check_size(
+    config: RunConfig, sources: dict[tuple[str, SweptWorld], Source], config_path: Path | str
+) -> None:
+    """ConfigError when the run's jobs, or its pairs (at most every other grid position per
+    goal), are more than one run can hold; asked before any job is planned."""
+    methods = sum(entry.n_points for entry in config.methods)
+    goals = pairs = 0
+    for world in config.worlds():
+        for _, current_alias, goal_alias in config.condition_pairs():
+            grid = sources[goal_alias, world].grid
+            n = len(select_goals(config, grid, config_path))
+            goals += n
+            pairs += n * (sources[current_alias, world].grid.size - 1)
+    counts = {"goals": goals, "methods": methods}
+    problem = count_problem(counts, "jobs") or count_problem(
+        counts, "pairs", MAX_PAIRS, total=pairs * methods
+    )
+    if problem:
+        raise ConfigError(f"{config_path}: {problem}")
+
+
 def make_plan(
     config: RunConfig, sources: dict[tuple[str, SweptWorld], Source], config_path: Path | str
 ) -> Plan:
-    """All jobs of a run, in a deterministic order."""
+    """All jobs of a run, in a deterministic order; ConfigError when it would be more than one
+    run can hold (:func:`check_size`)."""
+    check_size(config, sources, config_path)
     methods = method_specs(config)
     instances = {method.label: method.create() for method in methods}
     contents: dict[tuple[str, ImageKind], dict[tuple[int, int], str]] = {}

@@ -21,7 +21,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from pydantic import ValidationError
 
+from homebench.bounds import MAX_JOBS
 from homebench.config import MetricsConfig
 from homebench.data.synth.spec import STYLES
 from homebench.errors import DataError
@@ -34,6 +36,7 @@ from homebench.evaluation.metrics import (
     distance_bins,
 )
 from homebench.evaluation.plan import Plan
+from homebench.evaluation.records import PLAN, first_problem
 from homebench.evaluation.return_ratio import catchment, return_ratio
 from homebench.evaluation.statistics import (
     GoalResampler,
@@ -43,11 +46,13 @@ from homebench.evaluation.statistics import (
     mean_interval,
     mean_intervals,
 )
-from homebench.fileio import atomic_write, write_text_atomic
+from homebench.fileio import atomic_write, read_record_text, write_text_atomic
 from homebench.geometry import Grid, wrap_angle
 from homebench.hashing import derived_seed
 
 PLAN_FILE = "plan.json"
+#: Largest plan read: a few hundred bytes per job of the largest run (homebench.bounds).
+MAX_PLAN_BYTES = 512 * MAX_JOBS
 GROUP = ["condition", "method"]
 #: The factors of a pair (every one a column, so tables can group by any), then its position.
 #: ``style`` and ``seed`` are the swept world's (empty without a sweep);
@@ -108,10 +113,12 @@ def load_pairs(run_dir: Path) -> PairTable:
     """The per-pair table of a run, sorted by condition, method, goal and current position."""
     index_path = Path(run_dir) / PLAN_FILE
     try:
-        index = json.loads(index_path.read_text(encoding="utf-8"))
+        index = PLAN.validate_json(read_record_text(index_path, MAX_PLAN_BYTES))
     except FileNotFoundError:
         raise DataError(f"{index_path}: not a homebench run folder (no {PLAN_FILE})") from None
-    except ValueError as error:
+    except ValidationError as error:
+        raise DataError(f"{index_path}: corrupt ({first_problem(error)})") from None
+    except (OSError, ValueError) as error:
         raise DataError(f"{index_path}: corrupt ({error})") from None
     frames, missing = [], []
     for entry in index:

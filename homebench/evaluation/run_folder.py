@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from homebench.errors import ConfigError, DataError, HomebenchError
+from homebench.fileio import make_folder, parse_json, read_record_text
 from homebench.hashing import stable_hash
 
 CONFIG_FILE = "config.resolved.json"
@@ -38,8 +39,9 @@ class RunFolderInUseError(HomebenchError):
 
 
 def _open(path: Path) -> int:
+    """The lock file ``path`` in a run folder, opened (the folder made where missing)."""
+    make_folder(path.parent)
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
         return os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
     except OSError as error:
         raise DataError(f"{path}: cannot use the run folder ({error.strerror or error})") from None
@@ -109,10 +111,13 @@ def check_owner(run_dir: Path, resolved: dict[str, Any], take_over: bool) -> Non
     if take_over or not path.exists():
         return
     try:
-        previous = json.loads(path.read_text(encoding="utf-8"))
-        difference = "not a config"
+        previous = parse_json(read_record_text(path))
     except (OSError, ValueError) as error:
-        previous, difference = None, f"unreadable ({error})"
+        raise DataError(
+            f"{path}: unreadable ({error}); choose another output folder, or --force to "
+            "replace the run it belonged to"
+        ) from None
+    difference = "not a config"
     if isinstance(previous, dict):
         old, new = _what_counts(previous), _what_counts(resolved)
         if stable_hash(old) == stable_hash(new):

@@ -24,6 +24,7 @@ from typing import Any
 from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
+from homebench.errors import WriteError
 from homebench.evaluation.data_checks import check_source, pattern_notes
 from homebench.evaluation.executors import (
     PRELOAD,
@@ -68,11 +69,15 @@ class RunOutcome:
 def _outcomes(
     kind: str, results: Iterator[tuple[Any, JobOutcome | Crash]], total: int, show_progress: bool
 ) -> Iterator[tuple[Any, JobOutcome]]:
-    """Job outcomes as they finish (a crash as the job's error), with a progress bar."""
+    """Job outcomes as they finish (a crash as the job's error), with a progress bar; a job
+    that could not write its file (a full disk) stops the run with a WriteError, as no job
+    can succeed in that folder then: no failure is recorded, a rerun computes what is left."""
     with tqdm(total=total, desc=kind, unit="job", disable=not show_progress) as bar:
         for job, result in results:
             if isinstance(result, Crash):
                 result = JobOutcome(kind, job.key, result.cause)
+            if result.environment:
+                raise WriteError(result.error or "a file cannot be written")
             bar.update()
             yield job, result
 

@@ -74,10 +74,16 @@ class AddressSpaceError(MemoryError):
 def limit_address_space(memory_mb: int) -> None:
     """Limit this process's address space to ``memory_mb`` (``RLIMIT_AS``), so that a runaway
     allocation raises MemoryError; AddressSpaceError if the process already maps more (then
-    every allocation would fail: the limit is too small to run anything)."""
+    every allocation would fail: the limit is too small to run anything) or may map less."""
     import resource
 
     limit = memory_mb * 1024 * 1024
+    _, hard = resource.getrlimit(resource.RLIMIT_AS)
+    if hard != resource.RLIM_INFINITY and limit > hard:  # a Dask worker's own `ulimit -v`
+        raise AddressSpaceError(
+            f"the worker memory limit of {memory_mb} MB is above the {hard >> 20} MB this "
+            f"process inherited (ulimit -v); set worker_memory_mb to at most {hard >> 20}"
+        )
     mapped = _mapped_bytes()
     if mapped is not None and mapped >= limit:
         raise AddressSpaceError(

@@ -6,7 +6,6 @@ a file whose key differs is of another configuration (or code) and is not reused
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -14,7 +13,7 @@ from typing import Any
 import pandas as pd
 
 from homebench.evaluation.jobs import JobOutcome
-from homebench.fileio import read_record_text
+from homebench.fileio import parse_json, read_record_text
 
 
 @dataclass(frozen=True)
@@ -35,7 +34,7 @@ def read_trial(path: Path, run_dir: Path, trial: str, key: str) -> dict[str, Any
     trial's ``key``), or why there is none: "routes/x.json (trial x: missing)"."""
     where = f"{path.relative_to(run_dir).as_posix()} (trial {trial}"
     try:
-        record = json.loads(read_record_text(path))
+        record = parse_json(read_record_text(path))
     except FileNotFoundError:
         return f"{where}: missing)"
     except (OSError, ValueError) as error:

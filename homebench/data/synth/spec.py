@@ -16,6 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from homebench.data.synth.camera import CameraSpec
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
+from homebench.image_header import size_problem
 
 #: Bump when the renderer changes its output for an unchanged spec (invalidates caches).
 RENDERER_VERSION = 2
@@ -76,6 +77,13 @@ class RawImageSpec(_Frozen):
     direction: Literal["ccw", "cw"] = "cw"
     zero_angle_deg: float = 90.0
 
+    @model_validator(mode="after")
+    def _bounded(self) -> RawImageSpec:
+        problem = size_problem(self.width, self.height)
+        if problem:
+            raise ValueError(problem)
+        return self
+
     def geometry(self) -> CatadioptricGeometry:
         return CatadioptricGeometry(
             width=self.width,
@@ -97,6 +105,13 @@ class UnfoldedImageSpec(_Frozen):
     width: int = Field(360, ge=16)
     elevation_top_deg: float = Field(45.0, gt=0, lt=90)
     elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)
+
+    @model_validator(mode="after")
+    def _bounded(self) -> UnfoldedImageSpec:
+        problem = size_problem(self.width, self.height)
+        if problem:
+            raise ValueError(f"width {self.width}: {problem}")
+        return self
 
     @property
     def height(self) -> int:

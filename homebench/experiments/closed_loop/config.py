@@ -46,12 +46,14 @@ Checks that need the world (goals in free space) happen when the experiment star
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import Discriminator, Field, Tag, field_validator, model_validator
+from pydantic import Discriminator, Field, FiniteFloat, Tag, field_validator, model_validator
 
+from homebench.bounds import count_problem
 from homebench.config import MethodEntry, UnfoldConfig, _Strict, check_entries, method_points
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.experiments.robot import DriftModel, MotionLimits
@@ -60,16 +62,16 @@ from homebench.yamlio import load_model
 Control = Literal["truth", "random"]
 CONTROLS: tuple[Control, ...] = ("truth", "random")
 #: Region of the floor: (x_min, y_min, x_max, y_max), metres.
-Region = tuple[float, float, float, float]
+Region = tuple[FiniteFloat, FiniteFloat, FiniteFloat, FiniteFloat]
 
 
 class GoalSpec(_Strict):
     """A goal: ``at`` (x, y) metres in the config's frame, or ``grid`` (i, j) capture-grid
     indices; ``heading_deg`` of its snapshot (default 0)."""
 
-    at: tuple[float, float] | None = None
+    at: tuple[FiniteFloat, FiniteFloat] | None = None
     grid: tuple[int, int] | None = None
-    heading_deg: float = 0.0
+    heading_deg: FiniteFloat = 0.0
 
     @model_validator(mode="before")
     @classmethod
@@ -96,9 +98,16 @@ class LatticeStarts(_Strict):
 
     spacing: float = Field(gt=0)
     region: Region | None = None
-    heading_deg: float | None = None
+    heading_deg: FiniteFloat | None = None
 
     _region = field_validator("region")(_ordered)
+
+    def shape(self, region: Region) -> tuple[int, int]:
+        """(columns, rows) of the lattice over ``region``."""
+        x0, y0, x1, y1 = region
+        nx = math.floor((x1 - x0) / self.spacing + 1e-6) + 1  # 1e-6: a region of k spacings
+        ny = math.floor((y1 - y0) / self.spacing + 1e-6) + 1
+        return nx, ny
 
 
 class RandomStarts(_Strict):
@@ -108,7 +117,7 @@ class RandomStarts(_Strict):
     random: int = Field(ge=1)
     seed: int = Field(0, ge=0)
     region: Region | None = None
-    heading_deg: float | None = None
+    heading_deg: FiniteFloat | None = None
 
     _region = field_validator("region")(_ordered)
 
@@ -208,6 +217,9 @@ class ClosedLoopConfig(_Strict):
             raise ValueError("controls must be distinct")
         if not self.methods and not self.controls:
             raise ValueError("name at least one method or control")
+        problem = self.count_problem()
+        if problem:
+            raise ValueError(problem)
         labels = [label for label, _, _ in self.method_points()] + list(self.controls)
         repeated = sorted({label for label in labels if labels.count(label) > 1})
         if repeated:
@@ -216,6 +228,28 @@ class ClosedLoopConfig(_Strict):
                 "random); give each entry a label"
             )
         return self
+
+    def count_problem(self, region: Region | None = None) -> str:
+        """Why the run would hold more trials than one run can ("" when it would not): styles x
+        goals x starts x labels. Lattice starts are counted over ``region``, else over the
+        starts' own region or the world's capture grid (a database's grid is known only when
+        the run starts: it asks again with its region)."""
+        starts = self.starts
+        if isinstance(starts, RandomStarts):
+            counted = {"starts.random": starts.random}
+        else:
+            region = region or starts.region or self._grid_extent()
+            counted = {"starts.spacing": math.prod(starts.shape(region))} if region else {}
+        labels = sum(entry.n_points for entry in self.methods) + len(self.controls)
+        counts = {"styles": len(self.styles) or 1, "goals": len(self.goals), **counted}
+        return count_problem({**counts, "methods": labels}, "trials")
+
+    def _grid_extent(self) -> Region | None:
+        """The capture grid's extent from its first position (None for a database)."""
+        if self.database is not None:
+            return None
+        grid = self.world.to_grid()
+        return (0.0, 0.0, *((n - 1) * grid.spacing for n in grid.shape))
 
     def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
         """(label, method name, params) of every method entry and grid point, config order."""

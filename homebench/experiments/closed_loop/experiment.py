@@ -39,7 +39,7 @@ from homebench.experiments.closed_loop.views import LatticeViews
 from homebench.experiments.robot import Robot
 from homebench.experiments.scene import Scene, open_scene
 from homebench.experiments.trials import TrialRunOutcome
-from homebench.fileio import read_json_record, write_text_atomic
+from homebench.fileio import make_folder, read_json_record, write_text_atomic
 from homebench.geometry import Pose
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
@@ -269,7 +269,7 @@ def run_trial(job: ClosedLoopJob, run_dir: Path) -> dict[str, Any]:
 def _run_and_write(job: ClosedLoopJob, run_dir: Path) -> None:
     record = {"key": job.key, **run_trial(job, run_dir)}
     path = job.result_path(run_dir)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(path.parent)
     write_text_atomic(path, json.dumps(record, allow_nan=False) + "\n")
 
 
@@ -298,7 +298,7 @@ def run_closed_loop_experiment(
     if not plan:
         raise ConfigError(f"{config_path}: no start lies in free space far enough from a goal")
     run_dir = Path(config.output)
-    run_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(run_dir)
     write_run_metadata(config, config_path, run_dir)
     if force:
         for job in plan:

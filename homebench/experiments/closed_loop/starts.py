@@ -84,12 +84,15 @@ def _heading(spec: LatticeStarts | RandomStarts, seed: int, index: int) -> float
 
 
 def candidate_starts(config: ClosedLoopConfig, region: Region) -> list[Start]:
-    """Every start of the config over ``region`` (world frame), free or not, in index order."""
+    """Every start of the config over ``region`` (world frame), free or not, in index order;
+    ConfigError when there are more trials than one run can hold."""
+    problem = config.count_problem(region)
+    if problem:
+        raise ConfigError(problem)
     x0, y0, x1, y1 = region
     spec = config.starts
     if isinstance(spec, LatticeStarts):
-        nx = math.floor((x1 - x0) / spec.spacing + 1e-6) + 1  # 1e-6: a region of k spacings
-        ny = math.floor((y1 - y0) / spec.spacing + 1e-6) + 1
+        nx, ny = spec.shape(region)
         area = spec.spacing**2
         return [
             Start(r * nx + c, x0 + c * spec.spacing, y0 + r * spec.spacing,

@@ -47,12 +47,14 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    FiniteFloat,
     SerializerFunctionWrapHandler,
     field_validator,
     model_serializer,
     model_validator,
 )
 
+from homebench.bounds import count_problem
 from homebench.config import ALIAS, MethodEntry, UnfoldConfig, entry_error, method_points
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
@@ -83,9 +85,9 @@ class RouteSpec(_Strict):
     """
 
     name: str
-    waypoints: list[tuple[float, float]] = Field(min_length=2)
+    waypoints: list[tuple[FiniteFloat, FiniteFloat]] = Field(min_length=2)
     frame: Literal["world", "grid"] = "world"
-    heading_deg: float | None = None
+    heading_deg: FiniteFloat | None = None
     lengths: list[Annotated[float, Field(gt=0)]] | None = None
     repeats: int = Field(1, ge=1)
 
@@ -160,6 +162,9 @@ class RouteConfig(_Strict):
             raise ValueError("give either 'world' or 'database', not both")
         if self.database_path is not None and self.database is None:
             raise ValueError("'database_path' needs 'database'")
+        problem = self._count_problem()
+        if problem:
+            raise ValueError(problem)
         names = [route.name for route in self.routes]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
@@ -190,6 +195,18 @@ class RouteConfig(_Strict):
             if name not in self.model_fields_set:
                 data.pop(name, None)
         return data
+
+    def _count_problem(self) -> str:
+        """Why the run would hold more trials than one run can (every route's lengths x repeats
+        x the methods), naming the counts of the route with the most; "" when it would not."""
+        trials = [len(route.trial_lengths()) * route.repeats for route in self.routes]
+        k = trials.index(max(trials))
+        counts = {
+            f"routes[{k}].repeats": self.routes[k].repeats,
+            f"routes[{k}].lengths": len(self.routes[k].trial_lengths()),
+            "methods": sum(entry.n_points for entry in self.methods),
+        }
+        return count_problem(counts, "trials", total=sum(trials) * counts["methods"])
 
     def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
         """(label, method name, params) of every method entry and grid point, in order."""

@@ -62,7 +62,7 @@ from homebench.experiments.route.snapshots import SnapshotRule, similarity_frame
 from homebench.experiments.route.visual import home_visually
 from homebench.experiments.scene import Camera, Scene, open_scene
 from homebench.experiments.trials import TrialRunOutcome
-from homebench.fileio import read_json_record, write_text_atomic
+from homebench.fileio import make_folder, read_json_record, write_text_atomic
 from homebench.geometry import FloatArray, Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
@@ -408,7 +408,7 @@ def _run_and_write(job: RouteJob, run_dir: Path) -> None:
     run = run_trial if name == KLT_SECTOR else run_pairwise_trial
     record = {"key": job.key, **run(job.config, job.trial, job.label)}
     path = job.result_path(run_dir)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(path.parent)
     write_text_atomic(path, json.dumps(record, allow_nan=False) + "\n")
 
 
@@ -436,7 +436,7 @@ def run_route_experiment(
     """Run every unfinished trial of ``config`` and write the routes table."""
     check_routes(config, route_scene(config), config_path)
     run_dir = Path(config.output)
-    run_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(run_dir)
     write_run_metadata(config, config_path, run_dir)
     plan = route_jobs(config)
     if force:
