@@ -18,6 +18,7 @@ import click
 
 from homebench import __version__
 from homebench.errors import HomebenchError
+from homebench.report import DEFAULT_MAX_GOALS
 
 EXIT_ERROR = 2
 EXIT_CRASH = 1
@@ -227,11 +228,10 @@ def methods() -> None:
 
 
 def _format_summary(tables: Any, config: Any) -> str:
-    """The run's summary table as the report shows it (the same cells, order and marks)."""
-    from homebench.report.tables import config_order, summary_view, to_text
+    """The run's headline table (the report's first: the same cells, order and marks)."""
+    from homebench.report.tables import config_order, console_summary
 
-    view = summary_view(tables.summary, config_order(config), tables.comparisons)
-    return to_text(view)
+    return console_summary(tables.summary, config_order(config), tables.comparisons)
 
 
 def _run_experiment(
@@ -453,8 +453,8 @@ def run(
 )  # fmt: skip
 @click.option("--out", type=click.Path(path_type=Path), help="Folder (default: RUN_DIR/report).")
 @click.option(
-    "--max-goals", type=click.IntRange(min=1), default=None,
-    help="Goals per condition drawn as vector fields and AE maps (default: every goal).",
+    "--max-goals", type=click.IntRange(min=0), default=DEFAULT_MAX_GOALS, show_default=True,
+    help="Goals per condition drawn as vector fields and AE maps (the appendix); 0: every goal.",
 )  # fmt: skip
 @click.option("--no-progress", is_flag=True, help="Hide the progress bar over the figures.")
 def report(
@@ -467,7 +467,7 @@ def report(
     """Write the tables, figures and PDF report of the run in RUN_DIR."""
     from homebench.report.document import write_report
 
-    outcome = write_report(run_dir, formats, out, max_goals, progress=not no_progress)
+    outcome = write_report(run_dir, formats, out, max_goals or None, progress=not no_progress)
     for warning in outcome.warnings:
         click.echo(f"homebench: warning: missing job result {warning}", err=True)
     for path in outcome.files:

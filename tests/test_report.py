@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 from datetime import datetime
 from pathlib import Path
@@ -22,10 +23,12 @@ from homebench.report.pages import MAX_WARNINGS, PAGE_LINES, warning_pages
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
 CONDITIONS = ("orig-orig", "orig-day")
-#: after the title and summary, per condition: its fields and its AE maps (two goals a
-#: figure), its timing; then AHC and RR of all conditions side by side
-PAGES_PER_CONDITION = 3
-PAGES_PER_RUN = 2
+#: after the title and the headline table: with two or more conditions the heat maps (AHC, RR,
+#: mean AE); AHC and RR of all conditions side by side and the time per call; then per
+#: condition its fields and its AE maps (two goals a figure)
+HEATMAP_PAGES = 3
+PAGES_PER_RUN = 3
+PAGES_PER_CONDITION = 2
 #: the appendix: definitions (2 pages), the config and the environment (1 page each)
 APPENDIX_PAGES = 4
 
@@ -43,7 +46,8 @@ def _text(pdf: Path, page: int) -> str:
 def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
     fake_run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS, name="fake-run")
     outcome = write_report(fake_run, ["pdf", "html", "md"], max_goals=1)
-    pages = 2 + len(CONDITIONS) * PAGES_PER_CONDITION + PAGES_PER_RUN + APPENDIX_PAGES
+    pages = 2 + HEATMAP_PAGES + PAGES_PER_RUN + len(CONDITIONS) * PAGES_PER_CONDITION
+    pages += APPENDIX_PAGES
     folder = fake_run / "report"
     pdf = folder / "report.pdf"
     assert outcome.warnings == []
@@ -58,8 +62,9 @@ def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
         assert expected in title
     summary = _text(pdf, 1)
     assert "mean AE [deg]" in summary and "90.00" in summary and "20.00" in summary
-    # figures come grouped by condition, in the config's order
-    assert "orig-orig (current: db-orig" in _text(pdf, 2)
+    # the per-goal figures come last, grouped by condition, in the config's order
+    first_per_goal = 2 + HEATMAP_PAGES + PAGES_PER_RUN
+    assert "Home-vector fields, orig-orig (current: db-orig" in _text(pdf, first_per_goal)
     last_figure = pages - 1 - APPENDIX_PAGES
     assert "orig-day (current: db-orig, goal: db-day)" in _text(pdf, last_figure)
     figures = sorted((folder / "figures").glob("*.png"))
@@ -93,6 +98,28 @@ def test_only_some_goals_are_drawn_when_asked(fake_run: Path) -> None:
     assert not (fake_run / "report" / "report.pdf").exists()
 
 
+@pytest.mark.parametrize(
+    ("flags", "drawn", "note"),
+    [
+        ((), {(1, 2), (3, 4)}, "2 of 3 goals (--max-goals)"),  # the default
+        (("--max-goals", "1"), {(1, 2)}, "1 of 3 goals (--max-goals)"),
+        (("--max-goals", "0"), {(1, 2), (2, 3), (3, 4)}, "every goal"),
+    ],
+)
+def test_max_goals_bounds_the_per_goal_appendix(
+    tmp_path: Path, flags: tuple[str, ...], drawn: set[tuple[int, int]], note: str
+) -> None:
+    goals = ((1, 2), (2, 3), (3, 4))
+    run = write_fake_run(tmp_path / "run", METHODS, goals=goals, conditions=CONDITIONS[:1])
+    result = CliRunner().invoke(main, ["report", str(run), "--format", "md", *flags])
+    assert result.exit_code == 0, result.output
+    markdown = (run / "report" / "report.md").read_text()
+    fields = " ".join(re.findall(r"\*Figure \d+\. Home-vector fields, [^*]*\*", markdown))
+    assert {goal for goal in goals if str(goal) in fields} == drawn
+    assert ("goals shown" in fields) == (len(drawn) < len(goals))
+    assert f"home-vector fields and AE maps of {note} per condition" in markdown
+
+
 def test_missing_and_corrupt_jobs_get_a_warning_page(fake_run: Path) -> None:
     (fake_run / "jobs" / "orig-orig_mine_2_3.json").unlink()
     (fake_run / "jobs" / "orig-orig_warping_1_2.json").write_text('{"key": "orig-orig_wa')
@@ -106,7 +133,7 @@ def test_missing_and_corrupt_jobs_get_a_warning_page(fake_run: Path) -> None:
     assert "orig-orig_mine_2_3.json" in warning and "orig-orig_warping_1_2.json" in warning
     assert "missing or corrupt job files: 2" in _text(pdf, 0)
     # each goal keeps one method: both goals are still drawn, after the warning page
-    figure_pages = PAGES_PER_CONDITION + PAGES_PER_RUN
+    figure_pages = PAGES_PER_RUN + PAGES_PER_CONDITION
     assert len(pypdf.PdfReader(pdf).pages) == 2 + 1 + figure_pages + APPENDIX_PAGES
 
 
@@ -137,7 +164,7 @@ def test_cli_report_and_compare_on_a_real_run(tmp_path: Path, arena_manifest: Pa
     assert run / "report" / "report.pdf" in printed and run / "report" / "report.html" in printed
     assert all(p.is_file() for p in printed)
     pdf = pypdf.PdfReader(run / "report" / "report.pdf")
-    assert len(pdf.pages) == 2 + PAGES_PER_CONDITION + PAGES_PER_RUN + APPENDIX_PAGES
+    assert len(pdf.pages) == 2 + PAGES_PER_RUN + PAGES_PER_CONDITION + APPENDIX_PAGES
 
     other = tmp_path / "b"
     shutil.copytree(run, other)

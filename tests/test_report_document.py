@@ -13,12 +13,10 @@ import pandas as pd
 import pypdf
 import pytest
 from click.testing import CliRunner
-from matplotlib.lines import Line2D
-from matplotlib.transforms import Bbox
 from test_report_runs import FakeMethod, write_fake_run
 
 from homebench.cli import main
-from homebench.report import document
+from homebench.report import document, grid_report
 from homebench.report.appendix import (
     CONFIG_TITLE,
     DEFINITIONS_TITLE,
@@ -26,12 +24,20 @@ from homebench.report.appendix import (
     environment_sections,
     json_lines,
 )
-from homebench.report.captions import add_caption, numbered
+from homebench.report.captions import (
+    CAPTION_LINE_HEIGHT,
+    MAX_SCALE,
+    ORIENTATIONS,
+    PAGE_MARGIN,
+    numbered,
+    place_figure,
+)
 from homebench.report.definitions import definitions
 from homebench.report.document import load_content, write_report
+from homebench.report.figure_files import draw_figure
 from homebench.report.heatmaps import HEAT_METRICS, _grid, heatmap_columns, heatmap_figure
 from homebench.report.pages import appendix_pages
-from homebench.report.style import report_style, save_figure
+from homebench.report.style import report_style
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
 #: What a real run records beyond the fake run's environment.
@@ -91,96 +97,136 @@ def test_the_pdf_has_numbered_captions_and_the_appendix(tmp_path: Path) -> None:
         assert DEFINITIONS_TITLE in text and CONFIG_TITLE in text and "Test CPU 3000" in text
 
 
-def _boxes(fig: plt.Figure) -> list:
-    """The display boxes of the axes (frame, ticks, labels, title), legends and texts of a
-    figure but its last text (the caption)."""
-    renderer = fig.canvas.get_renderer()
-    axes = [ax.get_tightbbox(renderer, bbox_extra_artists=[]) for ax in fig.axes]
-    others = [a.get_tightbbox(renderer) for a in [*fig.legends, *fig.texts[:-1]]]
-    return [box for box in [*axes, *others] if box is not None]
+def _check_placement(figure: tuple[float, float], caption: str) -> None:
+    """``figure`` sits on an A4 page inside its margins, as large as the page allows (up to
+    MAX_SCALE), with ``caption`` below it and above the bottom margin."""
+    placement = place_figure(figure, caption)
+    width, height = placement.size
+    assert placement.size in ORIENTATIONS
+    left, bottom, right, top = placement.figure_box(figure)
+    tolerance = 1e-9
+    assert left >= PAGE_MARGIN - tolerance and right <= width - PAGE_MARGIN + tolerance
+    assert top <= height - PAGE_MARGIN + tolerance
+    assert placement.caption_top < bottom
+    assert placement.caption_bottom >= PAGE_MARGIN - CAPTION_LINE_HEIGHT  # a line's leading
+    fills_width = right - left >= width - 2 * PAGE_MARGIN - 1e-6
+    fills_height = placement.caption_bottom <= PAGE_MARGIN + 1e-6
+    assert fills_width or fills_height or placement.scale == MAX_SCALE, (figure, placement)
 
 
-def test_captions_sit_below_every_figure_of_a_report(tmp_path: Path) -> None:
-    content = load_content(_fake_run(tmp_path / "run"), max_goals=1)
+def test_every_figure_of_a_report_fills_an_a4_page_above_its_caption(tmp_path: Path) -> None:
+    content = load_content(_fake_run(tmp_path / "run", ("orig-orig", "orig-day")), max_goals=1)
     with report_style():
         for _, _, caption, fig in content.figures():
-            text = add_caption(fig, numbered(7, caption))
-            fig.canvas.draw()
-            box = text.get_window_extent(fig.canvas.get_renderer())
-            assert text.get_text().replace("\n", " ") == f"Figure 7. {caption}"
-            assert box.x0 >= 0 and box.x1 <= fig.bbox.x1 and box.y0 >= 0, caption
-            assert not any(box.overlaps(other) for other in _boxes(fig)), caption
+            width, height = fig.get_size_inches()
+            _check_placement((float(width), float(height)), numbered(7, caption))
             plt.close(fig)
 
 
-def _inches(fig: plt.Figure, box: Bbox) -> tuple[float, float, float, float]:
-    """``box`` (figure fractions) as inches: from the left, from the top, width, height."""
-    width, height = fig.get_size_inches()
-    return box.x0 * width, (1 - box.y1) * height, box.width * width, box.height * height
+@pytest.mark.parametrize(
+    ("figure", "orientation", "scale"),
+    [
+        ((7.2, 3.0), ORIENTATIONS[0], (ORIENTATIONS[0][0] - 2 * PAGE_MARGIN) / 7.2),
+        ((7.2, 9.5), ORIENTATIONS[1], None),  # a tall figure: portrait
+        ((3.5, 2.5), ORIENTATIONS[0], MAX_SCALE),  # a small one is not blown up
+    ],
+)
+def test_a_figure_page_takes_the_orientation_that_shows_it_larger(
+    figure: tuple[float, float], orientation: tuple[float, float], scale: float | None
+) -> None:
+    caption = "Figure 1. " + "word " * 60
+    _check_placement(figure, caption)
+    placement = place_figure(figure, caption)
+    assert placement.size == orientation
+    if scale is not None:
+        assert placement.scale == pytest.approx(scale)
 
 
-def test_a_caption_clears_a_legend_below_and_a_colour_bar() -> None:
-    with report_style():
-        fig = plt.figure(figsize=(7.2, 4.0), layout="constrained")
-        axes = fig.subplots(1, 2)
-        mesh = axes[0].pcolormesh(np.arange(20.0).reshape(4, 5))
-        fig.colorbar(mesh, ax=axes)
-        fig.legend(handles=[Line2D([], [], label="a")], loc="outside lower center")
-        fig.suptitle("title")
-        fig.draw_without_rendering()
-        before = [_inches(fig, ax.get_position()) for ax in fig.axes]
-        text = add_caption(fig, "word " * 120)
-        fig.canvas.draw()
-        # axes keep their size and their distances from the top
-        after = [_inches(fig, ax.get_position()) for ax in fig.axes]
-        np.testing.assert_allclose(after, before, atol=1e-3)  # a new layout run: 1e-4 in off
-        box = text.get_window_extent(fig.canvas.get_renderer())
-        assert text.get_text().count("\n") >= 3
-        assert box.x1 <= fig.bbox.x1
-        assert not any(box.overlaps(other) for other in _boxes(fig))
-        plt.close(fig)
-
-
-def test_a_figure_laid_out_by_its_files_is_not_drawn_again_for_its_caption(
+def test_a_figure_page_takes_the_figure_file_as_drawn(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """save_figure lays the figure out and stops its engine (a placeholder engine remains):
-    the caption reuses that layout instead of drawing the figure once more."""
+    """The page is the figure's PDF file placed on the page: the figure is drawn once per file
+    (PNG, PDF, SVG) and once to lay it out, not once more for its page."""
     with report_style():
-        fig = plt.figure(figsize=(4.0, 3.0), layout="constrained")
+        fig = plt.figure(figsize=(7.2, 3.0), layout="constrained")
         fig.subplots().plot([0, 1], [1, 0])
-        save_figure(fig, tmp_path / "figure")
         draws = []
-        monkeypatch.setattr(fig, "draw_without_rendering", lambda: draws.append(1))
-        add_caption(fig, "a caption")
-        assert draws == []
+        original = fig.draw
+        monkeypatch.setattr(fig, "draw", lambda *a, **k: draws.append(1) or original(*a, **k))
+        page = tmp_path / "page.pdf"
+        draw_figure(fig, tmp_path / "figure", (page, "Figure 1. A line."))
         plt.close(fig)
+    assert len(draws) == 4
+    (only,) = pypdf.PdfReader(page).pages
+    assert (float(only.mediabox.width) / 72, float(only.mediabox.height) / 72) == pytest.approx(
+        ORIENTATIONS[0]
+    )
+    assert "Figure 1. A line." in only.extract_text()
 
 
-def test_a_sweep_gets_heat_maps_instead_of_condition_pages(
+def test_a_sweep_writes_its_per_goal_figures_as_files_only(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(document, "MAX_DETAILED_CONDITIONS", 1)
+    monkeypatch.setattr(grid_report, "MAX_DETAILED_CONDITIONS", 1)
     run = _fake_run(tmp_path / "run", ("orig-orig", "orig-day"))
     outcome = write_report(run, ["pdf", "md"], max_goals=1)
     texts = _texts(run / "report" / "report.pdf")
-    assert "2 conditions (more than 1): this report shows overview heat maps" in texts[0]
+    assert "are in the figures folder only (2 conditions, more than 1)" in texts[0]
     captioned = [text for text in texts if "Figure " in text]
     for text, label in zip(captioned, ("AHC", "RR", "mean AE [deg]"), strict=False):
         assert f"{label} of each method (rows) under each condition (columns)" in text
-    # the documents show the heat maps and the all-conditions figures, and nothing else
+    # the documents show the heat maps, the all-conditions figures and the time per call
     markdown = (run / "report" / "report.md").read_text()
     sections = markdown.split("\n## ")
     shown = {s.split("\n")[0]: s.count("](figures/") for s in sections if "](figures/" in s}
-    assert shown == {"Overview": 3, document.METRICS_SECTION: len(captioned) - 3}
+    assert shown == {"Overview": 3, grid_report.METRICS_SECTION: 2, "Time per call": 1}
+    assert len(captioned) == 6
     assert all(f"Figure {k}." in text for k, text in enumerate(captioned, start=1))
-    # every condition's figures are still written, in three formats
+    # every condition's per-goal figures are still written, in three formats
     for condition in ("orig-orig", "orig-day"):
         written = [p for p in outcome.files if p.name.startswith(f"{condition}_")]
         assert {p.suffix for p in written} == {".png", ".pdf", ".svg"}
         assert f"figures/{condition}_" not in markdown
     names = {p.name for p in outcome.files}
     assert {"heatmap_ahc.png", "heatmap_ahc.pdf", "heatmap_ahc.svg"} <= names
+
+
+def test_the_report_leads_with_the_headline_table_and_ends_with_per_goal_figures(
+    tmp_path: Path,
+) -> None:
+    """Title, the headline table, heat maps, AHC, RR, time per call, then the per-goal figures
+    of each condition, then the definitions; every page A4."""
+    run = _fake_run(tmp_path / "run", ("orig-orig", "orig-day"))
+    write_report(run, ["pdf", "md"], max_goals=1)
+    pdf = run / "report" / "report.pdf"
+    texts = _texts(pdf)
+    assert "Results per condition and method" in texts[1]
+    assert "condition method AHC RR mean AE [deg] no est. [%] home [ms]" in texts[1]
+    assert "median AE [deg]" not in texts[1]  # the full summary is a file
+    starts = [
+        "AHC of each method", "RR of each method", "mean AE [deg] of each method",
+        "AHC against the distance", "Return ratio (RR) per goal", "Time per call, all conditions",
+        "Home-vector fields, orig-orig", "Angular error (AE) per current position, orig-orig",
+        "Home-vector fields, orig-day", "Angular error (AE) per current position, orig-day",
+    ]  # fmt: skip
+    figures = texts[2 : 2 + len(starts)]
+    for number, (text, start) in enumerate(zip(figures, starts, strict=True), start=3):
+        assert f"Figure {number - 2}. {start}" in text
+    assert texts[2 + len(starts)].startswith(DEFINITIONS_TITLE)
+    sizes = {
+        (round(float(page.mediabox.width) / 72, 2), round(float(page.mediabox.height) / 72, 2))
+        for page in pypdf.PdfReader(pdf).pages
+    }
+    assert sizes <= {(11.69, 8.27), (8.27, 11.69)}
+    markdown = (run / "report" / "report.md").read_text()
+    headings = [line[3:] for line in markdown.splitlines() if line.startswith("## ")]
+    assert headings.index("Overview") < headings.index(grid_report.METRICS_SECTION)
+    per_goal = [h for h in headings if h.startswith(grid_report.PER_GOAL_SECTION)]
+    assert [h.split(", ")[1].split(" ")[0] for h in per_goal] == ["orig-orig", "orig-day"]
+    assert headings.index("Time per call") < headings.index(per_goal[0])
+    bookmarks = [item.title for item in pypdf.PdfReader(pdf).outline]
+    assert bookmarks == [document.FRONT_TITLE, "Overview", grid_report.METRICS_SECTION,
+                         "Time per call", *per_goal, document.BACK_TITLE]  # fmt: skip
 
 
 def _summary() -> pd.DataFrame:

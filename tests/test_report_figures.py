@@ -21,7 +21,6 @@ from test_report_runs import GRID, FakeMethod, write_fake_run
 from homebench.config import MetricsConfig
 from homebench.evaluation.results import build_tables
 from homebench.geometry import Grid
-from homebench.report.document import _condition_figures, _grid_figures
 from homebench.report.figure_data import (
     Goal,
     condition_goals,
@@ -38,6 +37,7 @@ from homebench.report.grid_figures import (
     grid_layout,
     grid_pages,
 )
+from homebench.report.grid_report import _goal_figures, grid_figures, run_styles
 from homebench.report.metric_figures import (
     MAX_RR_BARS,
     ConditionPanel,
@@ -233,24 +233,24 @@ def test_every_goal_is_drawn_on_as_many_figures_as_it_takes(many_goals_run) -> N
     expected = math.ceil(len(MANY_GOALS) / per_figure)
     assert expected > 1
     with report_style():
-        drawn = list(_condition_figures(many_goals_run, "a-b", len(MANY_GOALS) + 5))
+        styles = run_styles(many_goals_run)
+        drawn = list(_goal_figures(many_goals_run, "a-b", len(MANY_GOALS) + 5, styles))
         for _, _, fig in drawn:
             plt.close(fig)
     stems = [stem for stem, _, _ in drawn]
     assert stems == [
         *(f"a-b_fields_{k}" for k in range(1, expected + 1)),
         *(f"a-b_ae_{k}" for k in range(1, expected + 1)),
-        "a-b_timing",
     ]
     fields = [caption for stem, caption, _ in drawn if "_fields_" in stem]
     listed = " ".join(fields)
     assert all(f"({i}, {j})" in listed for i, j in MANY_GOALS)
     assert "goals shown" not in listed and f"part 1 of {expected}" in fields[0]
     with report_style():
-        cut = list(_condition_figures(many_goals_run, "a-b", 2))
+        cut = list(_goal_figures(many_goals_run, "a-b", 2, styles))
         for _, _, fig in cut:
             plt.close(fig)
-    assert [stem for stem, _, _ in cut] == ["a-b_fields_1", "a-b_ae_1", "a-b_timing"]
+    assert [stem for stem, _, _ in cut] == ["a-b_fields_1", "a-b_ae_1"]
     assert f"(2 of {len(MANY_GOALS)} goals shown)" in cut[0][1]
     panels = [(g, goal_panels(many_goals_run.tables.pairs, MetricsConfig(), "a-b", g))
               for g in condition_goals(many_goals_run.tables.pairs, "a-b")]  # fmt: skip
@@ -261,14 +261,19 @@ def test_every_goal_is_drawn_on_as_many_figures_as_it_takes(many_goals_run) -> N
 
 def test_all_conditions_figures_follow_the_conditions(many_goals_run) -> None:
     with report_style():
-        drawn = list(_grid_figures(many_goals_run, 1))
+        drawn = list(grid_figures(many_goals_run, 1))
         for *_, fig in drawn:
             plt.close(fig)
-    assert [(stem, section) for stem, section, _, _ in drawn][-2:] == [
+    # one condition: no heat maps; the per-goal figures last
+    assert [(stem, section) for stem, section, _, _ in drawn][:3] == [
         ("ahc_1", "All conditions"),
         ("rr_1", "All conditions"),
+        ("timing", "Time per call"),
     ]
-    assert "(a) a-b (current: db-a, goal: db-b)" in drawn[-1][2]
+    assert "(a) a-b (current: db-a, goal: db-b)" in drawn[1][2]
+    assert {section for _, section, _, _ in drawn[3:]} == {
+        "Appendix: per-goal figures, a-b (current: db-a, goal: db-b)"
+    }
 
 
 def test_ae_maps_use_the_fixed_scale(tables) -> None:

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import arena_config, run_config
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from test_report_runs import GRID, FakeMethod, write_fake_run
 from test_results_uncertainty import synthetic_pairs
@@ -26,13 +27,17 @@ from homebench.evaluation.results import (
     method_comparisons,
     write_tables,
 )
-from homebench.report.pages import TABLE_ROWS, table_pages
+from homebench.report.pages import TABLE_FONT_SIZE, TABLE_ROWS, table_pages
 from homebench.report.run_data import load_run
 from homebench.report.tables import (
+    CONSOLE_WIDTH,
     FIXED3,
+    MISSING_TEXT,
     P_VALUE,
     Digits,
     RowOrder,
+    console_summary,
+    headline_view,
     make_view,
     report_views,
     run_order,
@@ -255,8 +260,9 @@ def test_every_writer_shows_the_marks_and_says_what_they_mean() -> None:
     assert "Bold: the best value" in to_latex(view)
     console = to_text(view)
     assert f"{good}*" in console and f"{bad} " in console and f"{bad}*" not in console
-    assert console.splitlines()[-3].startswith("*: the best value of its condition")
-    assert "sign-flip test (p < 0.05, Holm-adjusted" in console
+    notes = [line for line in console.splitlines() if not line.startswith(" ")]
+    assert notes[-3].startswith("*: the best value of its condition")
+    assert "sign-flip test (p < 0.05, Holm-adjusted" in " ".join(console.split())
     (page,) = table_pages(view)
     (table,) = page.axes[0].tables
     weights = {cell.get_text().get_text(): cell.get_text().get_fontweight()
@@ -365,7 +371,7 @@ def test_pdf_table_pages_keep_a_wide_long_table_on_the_page() -> None:
 
 
 def test_write_views_writes_three_files_per_table(views: dict, tmp_path: Path) -> None:
-    assert list(views) == ["summary", "rr_by_goal", "ahc_by_distance", "comparisons"]
+    assert list(views) == ["headline", "summary", "rr_by_goal", "ahc_by_distance", "comparisons"]
     written = write_views(list(views.values()), tmp_path / "out")
     assert sorted(p.name for p in written) == sorted(
         f"{name}.{suffix}" for name in views for suffix in ("csv", "md", "tex")
@@ -384,6 +390,142 @@ def test_comparisons_view_prints_differences_and_p_values(views: dict) -> None:
     assert shown.loc[0, "B - A"] == "180.000 [180.000, 180.000]"
     assert shown.loc[0, "n goals"] == "2"
     assert (shown["p goal (Holm)"] == "1.0").all()  # two goals: p is at least 0.5
+
+
+def _outside_math(latex: str) -> str:
+    """``latex`` without its inline math ($...$; an escaped \\$ is text)."""
+    return re.sub(r"(?<!\\)\$.*?(?<!\\)\$", "", latex)
+
+
+def test_latex_writes_less_and_greater_than_in_math_mode(views: dict) -> None:
+    """OT1, LaTeX's default font encoding, prints a text-mode < as an inverted ! (and > as an
+    inverted ?): every < and > of a title, note, header or cell is in math mode."""
+    frame = pd.DataFrame({"method": ["a<b", "c>d"], "p": [2.4e-36, 0.5]})
+    view = make_view("angles", "Title with p < 0.05 and AHC > 0", frame, {"p": P_VALUE},
+                     notes=("note: x < y > z",))  # fmt: skip
+    texts = [to_latex(view), *(to_latex(v) for v in views.values())]
+    for latex in texts:
+        _check_latex(latex)
+        outside = _outside_math(latex)
+        assert "<" not in outside and ">" not in outside, outside
+    latex = texts[0]
+    assert "{$<$0.001}" in latex  # a p-value below the printed precision: braced for siunitx
+    assert "p $<$ 0.05" in latex and "AHC $>$ 0" in latex and "a$<$b" in latex
+    assert "p $<$ 0.05" in to_latex(views["headline"])  # the significance note
+
+
+# --------------------------------------------------------------------------- headline
+
+
+#: Labels as long as the built-in methods' and the generated databases' conditions.
+LONG_METHODS = ["warping", "min-warping", "warping-2d", "fourier-warping", "sift", "klt-sector",
+                "mfdid", "did", "alv", "snapshot", "block-matching", "visual-compass"]  # fmt: skip
+LONG_CONDITIONS = ["original-original", "original-arboreal", "original-chairs",
+                   "original-day", "original-twilight"]  # fmt: skip
+
+
+def _long_summary() -> pd.DataFrame:
+    """A summary of LONG_METHODS x LONG_CONDITIONS with wide numbers: negative AHC bounds,
+    four-digit times; visual-compass gives no home direction (NaN)."""
+    rows = []
+    for condition in LONG_CONDITIONS:
+        for k, method in enumerate(LONG_METHODS):
+            none = method == "visual-compass"
+            metrics = {"ahc": -0.123, "ahc_lo": -0.456, "ahc_hi": 0.789, "rr": 0.812,
+                       "rr_lo": 0.611, "rr_hi": 1.0, "mean_ae_deg": 123.456,
+                       "mean_ae_deg_lo": 100.5, "mean_ae_deg_hi": 140.25}  # fmt: skip
+            rows.append({
+                "condition": condition, "method": method, "n_goals": 5, "pairs": 845,
+                **{c: math.nan if none else v for c, v in metrics.items()},
+                "no_estimate_share": 0.125 * (k % 3), "median_ae_deg": 99.5,
+                "ahc_missing90": 0.5, "catchment": 0.25, "describe_ms": 1234.5,
+                "home_ms": 9876.5 if k % 2 else 0.0123,
+            })  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def test_the_headline_table_fits_the_pdf_page_without_shrinking() -> None:
+    summary = _long_summary()
+    order = RowOrder(tuple(LONG_CONDITIONS), tuple(LONG_METHODS))
+    view = headline_view(summary, order, pd.DataFrame(columns=COLUMNS))
+    assert view.shown_columns() == ["condition", "method", "AHC", "RR", "mean AE [deg]",
+                                    "no est. [%]", "home [ms]"]  # fmt: skip
+    shown = view.text_frame()
+    assert shown.loc[0, "AHC"] == "-0.123 [-0.456, 0.789]"
+    assert shown.loc[0, "RR"] == "0.812 [0.611, 1.000]"
+    compass = shown[shown["method"] == "visual-compass"]
+    assert (compass[["AHC", "RR", "mean AE [deg]"]] == MISSING_TEXT).all().all()
+    pages = table_pages(view)
+    assert len(pages) == math.ceil(len(summary) / TABLE_ROWS)
+    for page in pages:
+        renderer = FigureCanvasAgg(page).get_renderer()
+        page.draw(renderer)
+        (table,) = page.axes[0].tables
+        sizes = {cell.get_text().get_fontsize() for cell in table.get_celld().values()}
+        assert sizes == {TABLE_FONT_SIZE}  # not shrunk to fit the width
+        box = table.get_window_extent(renderer)
+        assert box.x0 >= 0 and box.x1 <= page.bbox.width
+        notes = page.texts[-1].get_window_extent(renderer)
+        assert notes.y0 >= 0 and notes.y1 <= box.y0  # the notes below the table, on the page
+    # LaTeX: the condition heads its methods' rows, one column narrower
+    latex = to_latex(view)
+    _check_latex(latex)
+    assert "\\begin{longtable}{lrrSSS}" in latex and "original-day &" not in latex
+    heading = "\\multicolumn{6}{l}{\\itshape condition original-day} \\\\\nwarping & -0.123"
+    assert latex.count("\\multicolumn{6}{l}{\\itshape condition") == 5 and heading in latex
+    # the full summary is still written, every column with its interval
+    full = summary_view(summary, order, pd.DataFrame(columns=COLUMNS))
+    assert {"median AE [deg]", "catchment", "describe [ms/image]"} <= set(full.shown_columns())
+
+
+def test_the_console_summary_fits_100_columns() -> None:
+    summary = _long_summary()
+    order = RowOrder(tuple(LONG_CONDITIONS), tuple(LONG_METHODS))
+    text = console_summary(summary, order, pd.DataFrame(columns=COLUMNS))
+    lines = text.splitlines()
+    assert max(len(line) for line in lines) <= CONSOLE_WIDTH
+    # a condition heads its methods' rows; AHC with its interval, RR without
+    assert lines[lines.index("condition original-day") + 1].split()[:5] == [
+        "warping", "-0.123", "[-0.456,", "0.789]", "0.812"
+    ]  # fmt: skip
+    compass = [line for line in lines if line.strip().startswith("visual-compass")]
+    assert len(compass) == 5 and all(line.split()[1:4] == ["--"] * 3 for line in compass)
+
+
+def test_a_method_without_home_directions_is_never_ranked() -> None:
+    """visual-compass (NaN: no AE, AHC or RR) has no comparison rows: the best of the others
+    is still marked when it beats them all, and the compass never is."""
+    pairs = synthetic_pairs({"good": (0.0, 3.0), "bad": (15.0, 3.0)})
+    tables = _run_tables(pairs)
+    comparisons = method_comparisons(tables)
+    compass = tables.summary.iloc[[0]].assign(method="visual-compass")
+    metrics = [c for c in compass.columns if c.startswith(("ahc", "rr", "mean_ae", "median_ae"))]
+    compass[metrics] = math.nan
+    summary = pd.concat([tables.summary, compass], ignore_index=True)
+    view = summary_view(summary, RowOrder(), comparisons)
+    marked = {(view.frame.loc[row, "method"], column) for row, column in view.marked}
+    assert marked == {("good", "mean AE [deg]"), ("good", "AHC"),
+                      ("good", "AHC (no estimate = 90 deg)")}  # fmt: skip
+
+
+def test_every_line_homebench_run_prints_fits_100_columns(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A quick-start-sized run with long condition and method names, one of which gives no
+    home direction."""
+    monkeypatch.chdir(tmp_path)  # the run's folder as a user names it: a short path
+    methods = ["warping", "fourier-warping", "min-warping", "visual-compass"]
+    config = arena_config(
+        tmp_path, arena_manifest, output="run",
+        databases={"original": str(arena_manifest), "twilight": str(arena_manifest)},
+        conditions=["original-original", "original-twilight"], goals=[[1, 2], [2, 3], [3, 1]],
+        methods=[{"method": m} for m in methods],
+    )  # fmt: skip
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    assert "condition original-twilight" in lines
+    assert [line for line in lines if len(line) > CONSOLE_WIDTH] == []
 
 
 # --------------------------------------------------------------------------- run folder

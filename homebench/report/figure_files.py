@@ -1,7 +1,7 @@
 """Figures drawn by forked processes while the report goes on with the next figure.
 
-Each figure is drawn five times or so: laid out, written as PNG, PDF and SVG, and as the PDF
-report's captioned page; most of a report's time. Where the system has ``fork``,
+Each figure is drawn four times: laid out, written as PNG, PDF and SVG (the PDF report's page
+takes the PDF file as it is); most of a report's time. Where the system has ``fork``,
 :class:`FigureFiles` forks once the report process has built a figure: the child, a copy of the
 report process holding the figure, lays it out, writes its three files and (when asked) its
 captioned page as a one-page PDF, and ends, while the report process builds the next figure; at
@@ -22,10 +22,13 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO
 
+# the SVG backend is imported here, once, rather than by every forked child at its first SVG
+import matplotlib.backends.backend_svg  # noqa: F401
 from matplotlib.figure import Figure
+from pypdf import PdfReader, PdfWriter
 
-from homebench.report.captions import add_caption
-from homebench.report.style import SAVE_ARGS, figure_paths, save_figure
+from homebench.report.captions import write_figure_page
+from homebench.report.style import figure_paths, save_figure
 
 
 def default_workers() -> int:
@@ -37,14 +40,13 @@ def default_workers() -> int:
 
 def draw_figure(fig: Figure, stem_path: Path, page: tuple[Path, str] | None = None) -> None:
     """Write ``fig``'s files (:func:`~homebench.report.style.save_figure`), then, with
-    ``page = (path, caption)``, the figure with ``caption`` below it as a one-page PDF at
-    ``path`` (no dates: the report's metadata are set when the pages are joined)."""
-    save_figure(fig, stem_path)
+    ``page = (path, caption)``, its PDF with ``caption`` below it as a one-page A4 PDF at
+    ``path`` (:func:`~homebench.report.captions.write_figure_page`)."""
+    _, pdf, _ = save_figure(fig, stem_path)
     if page is not None:
         path, caption = page
-        add_caption(fig, caption)
-        with open(path, "wb") as f:
-            fig.savefig(f, format="pdf", **SAVE_ARGS["pdf"])
+        width, height = fig.get_size_inches()
+        write_figure_page(pdf, (float(width), float(height)), caption, path)
 
 
 class FigureFiles:
@@ -124,17 +126,22 @@ def pdf_date(moment: datetime) -> str:
 
 
 def assemble_pdf(
-    parts: Sequence[Path | IO[bytes]], out: IO[bytes], metadata: dict[str, str | datetime]
+    parts: Sequence[Path | IO[bytes]],
+    out: IO[bytes],
+    metadata: dict[str, str | datetime],
+    outline: dict[int, str] | None = None,
 ) -> None:
     """Write the pages of the PDF documents ``parts`` (paths or binary streams), in order, as
     one PDF to ``out`` with ``metadata`` (keys as in the document information dictionary
-    without the slash; dates as datetimes). The same parts give the same bytes."""
-    from pypdf import PdfReader, PdfWriter
-
+    without the slash; dates as datetimes) and a bookmark to the first page of each part
+    ``outline`` names (part index -> title). The same parts give the same bytes."""
     writer = PdfWriter()
-    for part in parts:
+    for k, part in enumerate(parts):
+        first = len(writer.pages)
         for page in PdfReader(part).pages:
             writer.add_page(page)
+        if outline and k in outline:
+            writer.add_outline_item(title=outline[k], page_number=first)
     writer.add_metadata(
         {
             f"/{key}": pdf_date(value) if isinstance(value, datetime) else value

@@ -16,7 +16,7 @@ from homebench.methods import registry
 from homebench.methods.params import paper_statement
 from homebench.report.appendix import CONFIG_TITLE, DEFINITIONS_TITLE, ENVIRONMENT_TITLE, Appendix
 from homebench.report.run_data import RunData, RunInfo
-from homebench.report.style import new_figure
+from homebench.report.style import PAGE_SIZE, new_figure, stop_layout
 from homebench.report.tables import TableView
 
 #: Characters per line of the text pages, and lines per page.
@@ -30,9 +30,14 @@ TABLE_ROWS = 24
 HEADER_WIDTH = 16
 #: Font size of the table cells (points) unless shrunk to fit the page's width.
 TABLE_FONT_SIZE = 8
-#: Where a table page's table goes (figure fraction: left, bottom, width, height); its notes
-#: go below.
+#: Where a table page's table goes (figure fraction: left, bottom, width, height; the bottom
+#: rises for long notes); its notes go below.
 TABLE_AREA = (0.03, 0.1, 0.94, 0.82)
+#: Font size of a table's notes (points), the height of a note line and the space below the
+#: notes (inches).
+NOTE_FONT_SIZE = 7
+NOTE_LINE_HEIGHT = NOTE_FONT_SIZE * 1.25 / 72
+NOTE_MARGIN = 0.3
 #: Share of the room a table shrunk to fit is given (room for rounding of text widths).
 TABLE_FIT = 0.97
 
@@ -238,18 +243,26 @@ def _fit_table(table: Table, ax: Axes) -> None:
         table.scale(1.0, TABLE_FIT * ax.bbox.height / height)
 
 
+def _table_area(note_lines: int) -> tuple[float, float, float, float]:
+    """TABLE_AREA, its bottom raised to leave room for ``note_lines`` lines of notes."""
+    left, bottom, width, height = TABLE_AREA
+    low = max(bottom, (note_lines * NOTE_LINE_HEIGHT + NOTE_MARGIN) / PAGE_SIZE[1])
+    return left, low, width, bottom + height - low
+
+
 def table_pages(view: TableView) -> list[Figure]:
     """``view`` drawn as matplotlib tables, TABLE_ROWS rows per page, shrunk to fit the page;
     marked cells in bold, the view's note lines under the table."""
     text, marked, alignment = view.text_frame(), view.mark_mask(), view.alignment()
-    notes = "\n".join(part for line in view.note_lines("Bold")
-                      for part in textwrap.wrap(line, LINE_WIDTH + 40))  # fmt: skip
+    notes = [part for line in view.note_lines("Bold")
+             for part in textwrap.wrap(line, LINE_WIDTH + 40)]  # fmt: skip
+    area = _table_area(len(notes))
     pages = []
     for start in range(0, max(len(text), 1), TABLE_ROWS):
         chunk = text.iloc[start : start + TABLE_ROWS]
         fig = new_figure()
-        fig.set_layout_engine("none")  # the table is placed by hand, inside TABLE_AREA
-        ax = fig.add_axes(TABLE_AREA)
+        stop_layout(fig)  # the table is placed by hand, inside its area
+        ax = fig.add_axes(area)
         ax.axis("off")
         labels = ["\n".join(textwrap.wrap(c, HEADER_WIDTH)) for c in chunk.columns]
         table = ax.table(cellText=chunk.to_numpy().tolist(), colLabels=labels,
@@ -271,6 +284,6 @@ def table_pages(view: TableView) -> list[Figure]:
         _fit_table(table, ax)
         part = f" ({start // TABLE_ROWS + 1})" if len(text) > TABLE_ROWS else ""
         fig.suptitle(view.title + part)
-        fig.text(TABLE_AREA[0], TABLE_AREA[1] - 0.01, notes, fontsize=7, va="top")
+        fig.text(area[0], area[1] - 0.01, "\n".join(notes), fontsize=NOTE_FONT_SIZE, va="top")
         pages.append(fig)
     return pages

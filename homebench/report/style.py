@@ -243,14 +243,22 @@ def save_figure(fig: Figure, stem_path: Path) -> list[Path]:
     """Write ``fig`` as ``<stem_path>.png`` (PNG_DPI), ``.pdf`` and ``.svg`` atomically.
 
     The PNG is drawn first, and its draw lays the figure out (constrained layout); the layout
-    engine then stops, so the PDF and SVG show the same picture (the constrained layout moves
-    things a little at every draw) and no draw is spent on layout alone. No dates or random
-    ids in the files: the same figure always gives the same bytes.
+    engine then stops (:func:`stop_layout`), so the PDF and SVG show the same picture (the
+    constrained layout moves things a little at every draw) and no draw is spent on layout
+    alone. No dates or random ids in the files: the same figure always gives the same bytes.
     """
     png, *vector = figure_paths(stem_path)
     written = [_save(fig, png, "png")]
-    fig.set_layout_engine("none")
+    stop_layout(fig)
     return written + [_save(fig, path, path.suffix[1:]) for path in vector]
+
+
+def stop_layout(fig: Figure) -> None:
+    """Remove ``fig``'s layout engine, keeping its layout. (The "none" engine leaves a
+    placeholder engine, which makes every savefig draw the figure once more before drawing
+    it.)"""
+    with plt.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+        fig.set_layout_engine(None)
 
 
 def figure_paths(stem_path: Path) -> list[Path]:

@@ -17,7 +17,9 @@ PDF pages in bold, each with a note line saying what a mark means.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Sequence
+import re
+import textwrap
+from collections.abc import Callable, Collection, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -40,8 +42,9 @@ MISSING_TEXT = "--"
 ALPHA = 0.05
 #: A LaTeX table with more rows is a ``longtable``, which splits across pages.
 LATEX_PAGE_ROWS = 40
-#: How the console marks a cell (bold elsewhere).
+#: How the console marks a cell (bold elsewhere), and its width in characters.
 CONSOLE_MARK = "*"
+CONSOLE_WIDTH = 100
 
 
 @dataclass(frozen=True)
@@ -87,7 +90,8 @@ class TableView:
     Columns not in ``digits`` are text (conditions, methods, goals). ``bounds``: shown column
     -> its (lo, hi) columns of ``frame``, printed in the shown column's cell. ``marked``:
     (row, shown column) of the cells shown marked, ``mark_note`` what a mark means; ``notes``:
-    further lines under the table.
+    further lines under the table. ``grouped``: the console and LaTeX show the swept world and
+    condition as a heading over their rows instead of as columns (a narrower table).
     """
 
     name: str
@@ -98,6 +102,20 @@ class TableView:
     marked: frozenset[tuple[int, str]] = frozenset()
     mark_note: str = ""
     notes: tuple[str, ...] = ()
+    grouped: bool = False
+
+    def group_columns(self) -> list[str]:
+        """The columns shown as headings over their rows: none unless ``grouped``."""
+        if not self.grouped:
+            return []
+        return [c for c in (*swept(self.frame), "condition") if c in self.frame.columns]
+
+    def group_heads(self) -> list[str | None]:
+        """Per row, the heading of the group it starts ("condition a-b"), else None."""
+        columns = self.group_columns()
+        keys = [", ".join(f"{c} {row[c]}" for c in columns) for _, row in self.frame.iterrows()]
+        return [key if columns and (k == 0 or key != keys[k - 1]) else None
+                for k, key in enumerate(keys)]  # fmt: skip
 
     def shown_columns(self) -> list[str]:
         """The columns the text renderings show: all but the bounds."""
@@ -163,6 +181,7 @@ def make_view(
     marked: frozenset[tuple[int, str]] = frozenset(),
     mark_note: str = "",
     notes: tuple[str, ...] = (),
+    grouped: bool = False,
 ) -> TableView:
     """A view of ``frame`` rounded by ``digits``; bound columns take their column's digits."""
     bounds = bounds or {}
@@ -171,7 +190,7 @@ def make_view(
     for column, rule in digits.items():
         rounded = pd.Series([rule.round(float(v)) for v in frame[column]], dtype=float)
         frame[column] = rounded.astype("Int64") if rule == FIXED0 else rounded
-    return TableView(name, title, frame, digits, bounds, marked, mark_note, notes)
+    return TableView(name, title, frame, digits, bounds, marked, mark_note, notes, grouped)
 
 
 # --------------------------------------------------------------------------- row order
@@ -276,6 +295,29 @@ SIGNIFICANCE_NOTE = (
 )
 
 
+METRICS_NOTE = (
+    "AE over the pairs with an estimate; AHC as configured (the paper's: pairs without an "
+    "estimate left out); RR over the goals whose home field covers the grid; --: no value (a "
+    "method that gives no home direction has no AE, AHC or RR)."
+)
+#: The headline table's columns: summary source -> header (digits and scale as in
+#: SUMMARY_COLUMNS), and those shown with their interval.
+HEADLINE_COLUMNS = {
+    "ahc": "AHC",
+    "rr": "RR",
+    "mean_ae_deg": "mean AE [deg]",
+    "no_estimate_share": "no est. [%]",
+    "home_ms": "home [ms]",
+}
+HEADLINE_INTERVALS = ("ahc", "rr")
+CONSOLE_INTERVALS = ("ahc",)
+HEADLINE_NOTE = (
+    "home: ms per pair. Every column (pairs, median AE, rotation error, AHC with a missing "
+    "estimate as 90 deg, catchment, describe time, all intervals): the summary table in tables/ "
+    "(csv, md, tex)."
+)
+
+
 def swept(table: pd.DataFrame) -> list[str]:
     """The world factors a table varies over ("style", "seed"), for its row labels."""
     return [c for c in ("style", "seed") if c in table.columns and table[c].notna().any()]
@@ -336,10 +378,42 @@ def significant_cells(
                 continue
             best = values.idxmin() if lower else values.idxmax()
             mine = rows.at[best, "method"]
-            others = rows.loc[rows.index != best, "method"]
+            others = rows.loc[values.notna() & (rows.index != best), "method"]  # n/a: unranked
             if all(found.beats(cell, metric, lower, mine, other) for other in others):
                 cells.add((int(best), column))
     return frozenset(cells)
+
+
+def _summary_columns(
+    name: str,
+    title: str,
+    summary: pd.DataFrame,
+    order: RowOrder,
+    comparisons: pd.DataFrame,
+    headers: dict[str, str],
+    intervals: Collection[str] | None,
+    notes: tuple[str, ...],
+    grouped: bool = False,
+) -> TableView:
+    """A view of the summary's rows in ``order`` (swept world, condition, method) and its
+    columns ``headers`` (source -> header; digits and scale of SUMMARY_COLUMNS), those in
+    ``intervals`` (None: every one that has bounds) with their interval; significantly best
+    cells (``comparisons``: the run's method comparisons) marked."""
+    summary = order.sort(summary)
+    frame = summary[[*swept(summary), "condition", "method"]].copy()
+    digits, bounds = {}, {}
+    for source, header in headers.items():
+        if source not in summary.columns or (source in OPTIONAL and summary[source].isna().all()):
+            continue
+        _, rule, scale = SUMMARY_COLUMNS[source]
+        digits[header] = rule
+        values = summary if intervals is None or source in intervals else summary[[source]]
+        ends = _bounded(frame, header, values, source, scale)
+        bounds |= {header: ends} if ends else {}
+    marked = {(row, headers[column]) for row, column in significant_cells(summary, comparisons)
+              if headers.get(column) in digits}  # fmt: skip
+    return make_view(name, title, frame, digits, bounds, frozenset(marked), SIGNIFICANCE_NOTE,
+                     notes, grouped)  # fmt: skip
 
 
 def summary_view(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFrame) -> TableView:
@@ -347,24 +421,25 @@ def summary_view(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFra
     estimate, AE, AHC (the paper's and with a missing estimate as 90 deg), RR, catchment,
     times; each metric with its interval; significantly best cells (``comparisons``: the
     run's :func:`~homebench.evaluation.results.method_comparisons`) marked."""
-    summary = order.sort(summary)
-    frame = summary[[*swept(summary), "condition", "method"]].copy()
-    digits, bounds = {}, {}
-    for source, (header, rule, scale) in SUMMARY_COLUMNS.items():
-        if source in summary.columns and not (source in OPTIONAL and summary[source].isna().all()):
-            digits[header] = rule
-            ends = _bounded(frame, header, summary, source, scale)
-            bounds |= {header: ends} if ends else {}
-    marked = {(row, SUMMARY_COLUMNS[column][0])
-              for row, column in significant_cells(summary, comparisons)}  # fmt: skip
+    headers = {source: header for source, (header, _, _) in SUMMARY_COLUMNS.items()}
     title = "Summary per condition and method: estimate [95 % interval]"
-    notes = (
-        INTERVAL_NOTE,
-        "AE over the pairs with an estimate; AHC as configured (the paper's: pairs without an "
-        "estimate left out); RR over the goals whose home field covers the grid.",
-    )
-    return make_view("summary", title, frame, digits, bounds, frozenset(marked),
-                     SIGNIFICANCE_NOTE, notes)  # fmt: skip
+    return _summary_columns("summary", title, summary, order, comparisons, headers, None,
+                            (INTERVAL_NOTE, METRICS_NOTE))  # fmt: skip
+
+
+def headline_view(
+    summary: pd.DataFrame,
+    order: RowOrder,
+    comparisons: pd.DataFrame,
+    intervals: Collection[str] = HEADLINE_INTERVALS,
+) -> TableView:
+    """The summary's HEADLINE_COLUMNS (AHC, RR, mean AE, share without estimate, home time),
+    those in ``intervals`` with their interval, marks as in :func:`summary_view`: the report's
+    first table and, with the AHC interval alone, the console summary of ``homebench run``."""
+    title = "Results per condition and method: estimate [95 % interval]"
+    return _summary_columns("headline", title, summary, order, comparisons, HEADLINE_COLUMNS,
+                            intervals, (INTERVAL_NOTE, METRICS_NOTE, HEADLINE_NOTE),
+                            grouped=True)  # fmt: skip
 
 
 def _pivot(
@@ -459,12 +534,13 @@ def comparisons_view(comparisons: pd.DataFrame, order: RowOrder) -> TableView:
 
 
 def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
-    """The report tables of a run in ``order`` (none when the run has no results; no
-    comparisons with a single method)."""
+    """The report tables of a run in ``order``, the headline first (none when the run has no
+    results; no comparisons with a single method)."""
     if tables.pairs.empty:
         return []
     comparisons = tables.comparisons
     views = [
+        headline_view(tables.summary, order, comparisons),
         summary_view(tables.summary, order, comparisons),
         rr_by_goal_view(tables.goals, order),
         ahc_by_distance_view(tables.ahc, order),
@@ -483,12 +559,45 @@ def to_markdown(view: TableView) -> str:
     return f"**{view.title}**\n\n{text}\n{notes}"
 
 
-def to_text(view: TableView) -> str:
-    """The console table: title, cells, marked cells with CONSOLE_MARK, note lines."""
-    text = view.marked_frame(lambda cell: cell + CONSOLE_MARK, pad=" ").to_markdown(
-        index=False, disable_numparse=True, colalign=view.alignment(), tablefmt="simple"
-    )
-    return "\n".join([view.title, text, *view.note_lines(CONSOLE_MARK)])
+def to_text(view: TableView, width: int = CONSOLE_WIDTH) -> str:
+    """The console table: title, cells (marked ones with CONSOLE_MARK), note lines wrapped to
+    ``width``; a grouped view's group headings on lines of their own over their (indented)
+    rows."""
+    cells = view.marked_frame(lambda cell: cell + CONSOLE_MARK, pad=" ")
+    groups = view.group_columns()
+    shown = [c for c in cells.columns if c not in groups]
+    align = [a for c, a in zip(cells.columns, view.alignment(), strict=True) if c in shown]
+    lines = _columns([[c, *cells[c]] for c in shown], align)
+    indent = "  " if groups else ""
+    body = [indent + line for line in lines[:2]]
+    for head, line in zip(view.group_heads(), lines[2:], strict=True):
+        body += [head] if head is not None else []
+        body.append(indent + line)
+    title, notes = _wrapped([view.title], width), _wrapped(view.note_lines(CONSOLE_MARK), width)
+    return "\n".join([*title, *body, *notes])
+
+
+def console_summary(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFrame) -> str:
+    """The summary ``homebench run`` prints: the headline table with the AHC interval alone,
+    within CONSOLE_WIDTH columns for the usual condition and method names."""
+    return to_text(headline_view(summary, order, comparisons, CONSOLE_INTERVALS))
+
+
+def _columns(columns: list[list[str]], alignment: list[str]) -> list[str]:
+    """Text ``columns`` (each its header, then its cells) side by side, two spaces apart, each
+    as wide as its widest cell and aligned "left" or "right": the header, a rule, the rows."""
+    widths = [max(len(cell) for cell in column) for column in columns]
+    lines = [
+        "  ".join(cell.ljust(w) if a == "left" else cell.rjust(w)
+                  for cell, w, a in zip(row, widths, alignment, strict=True)).rstrip()
+        for row in zip(*columns, strict=True)
+    ]  # fmt: skip
+    return [lines[0], "  ".join("-" * w for w in widths), *lines[1:]]
+
+
+def _wrapped(lines: list[str], width: int) -> list[str]:
+    """``lines`` wrapped to ``width`` characters, continuation lines indented."""
+    return [part for line in lines for part in textwrap.wrap(line, width, subsequent_indent="  ")]
 
 
 #: LaTeX's special characters and what stands for each in text.
@@ -503,7 +612,12 @@ LATEX_SPECIAL = {
     "}": r"\}",
     "~": r"\textasciitilde{}",
     "^": r"\textasciicircum{}",
+    # in text mode under the default font encoding (OT1), < and > print as inverted ! and ?
+    "<": "$<$",
+    ">": "$>$",
 }
+#: A cell siunitx reads as a number.
+PLAIN_NUMBER = re.compile(r"-?\d+(\.\d+)?")
 #: The LaTeX column type of each kind of column (numbers: siunitx ``S``).
 LATEX_COLUMN = {"text": "l", "number": "S", "interval": "r"}
 
@@ -515,25 +629,40 @@ def latex_escape(text: str) -> str:
 def to_latex(view: TableView) -> str:
     """The view through pandas' Styler: booktabs rules, siunitx ``S`` columns for single
     numbers, marked cells ``\\bfseries``, captioned with the title and note lines; a
-    ``longtable`` beyond LATEX_PAGE_ROWS rows. Needs ``booktabs``, ``siunitx`` and
-    ``longtable``."""
-    kinds = view.column_kinds()
-    text = view.text_frame().map(latex_escape)
+    ``longtable`` beyond LATEX_PAGE_ROWS rows; a grouped view's group headings as rows of
+    their own over their rows. Needs ``booktabs``, ``siunitx`` and ``longtable``."""
+    groups = view.group_columns()
+    kept = [k for k, c in enumerate(view.shown_columns()) if c not in groups]
+    kinds = [view.column_kinds()[k] for k in kept]
+    text = view.text_frame().drop(columns=groups).map(latex_escape)
     for column, kind in zip(text.columns, kinds, strict=True):
-        if kind == "number":  # siunitx reads a braced cell as text
-            text[column] = text[column].replace(MISSING_TEXT, "{" + MISSING_TEXT + "}")
+        if kind == "number":  # siunitx reads a braced cell as text ("--", "$<$0.001")
+            text[column] = [c if PLAIN_NUMBER.fullmatch(c) else f"{{{c}}}" for c in text[column]]
     text.columns = [latex_escape(c) for c in text.columns]
-    mask = view.mark_mask()
+    mask = view.mark_mask()[:, kept]
     styler = text.style.hide(axis="index").apply(
         lambda cells: np.where(mask, "bfseries: ;", ""), axis=None
     )
     long = len(text) > LATEX_PAGE_ROWS
     caption = latex_escape(" ".join([f"{view.title}.", *view.note_lines("Bold")]))
-    return styler.to_latex(
+    latex = styler.to_latex(
         column_format="".join(LATEX_COLUMN[kind] for kind in kinds), hrules=True, siunitx=True,
         caption=caption, label=f"tab:{view.name}", position=None if long else "htbp",
         environment="longtable" if long else None,
     )  # fmt: skip
+    return _latex_group_heads(latex, view.group_heads(), len(kinds)) if groups else latex
+
+
+def _latex_group_heads(latex: str, heads: list[str | None], width: int) -> str:
+    """``latex`` (a table of ``len(heads)`` body rows, the last rows that end in ``\\\\``) with
+    a row spanning its ``width`` columns before each row that has a head."""
+    lines = latex.split("\n")
+    ends = [k for k, line in enumerate(lines) if line.endswith("\\\\")]
+    rows = ends[len(ends) - len(heads) :]
+    for k, head in reversed(list(zip(rows, heads, strict=True))):
+        if head is not None:
+            lines.insert(k, f"\\multicolumn{{{width}}}{{l}}{{\\itshape {latex_escape(head)}}} \\\\")
+    return "\n".join(lines)
 
 
 def to_csv(view: TableView) -> str:
