@@ -111,11 +111,18 @@ def test_a_job_file_nested_100000_deep_is_recomputed(run_dir: Path, tmp_path: Pa
 def test_a_folder_file_of_the_wrong_shape_is_one_line_naming_it(
     run_dir: Path, tmp_path: Path, name: str, text: str
 ) -> None:
-    """run reads config.resolved.json (whose config the folder holds), report the plan."""
+    """run reads config.resolved.json (whose config the folder holds), so do the readers of
+    runs; report reads the plan."""
     (run_dir / name).write_text(text)
-    commands = [["run", str(tmp_path / "config.yaml"), "--no-progress", "--no-report"]]
+    commands = [
+        ["run", str(tmp_path / "config.yaml"), "--no-progress", "--no-report"],
+        ["report", str(run_dir), "--format", "md", "--no-progress"],
+        ["compare", str(run_dir), str(run_dir), "--label", "a", "--label", "b"],
+        ["leaderboard", str(run_dir)],
+        ["findings", str(run_dir)],
+    ]
     if name == "plan.json":
-        commands = [["report", str(run_dir), "--format", "md", "--no-progress"]]
+        commands = commands[1:2]
     for args in commands:
         result = _invoke(*args)
         assert result.exit_code == 2, result.output

@@ -31,7 +31,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
-from homebench.image_header import MAX_IMAGE_PIXELS
+from homebench.image_header import size_problem
 from homebench.views import ImageKind
 from homebench.yamlio import load_model, parse_model
 
@@ -287,10 +287,9 @@ class ImageSection(_Strict):
     def _positive_size(cls, size: tuple[int, int]) -> tuple[int, int]:
         if min(size) < 1:
             raise ValueError(f"image size [width, height] must be positive, got {list(size)}")
-        if size[0] * size[1] > MAX_IMAGE_PIXELS:
-            raise ValueError(
-                f"image size {list(size)} has more than the {MAX_IMAGE_PIXELS:,} pixels allowed"
-            )
+        problem = size_problem(*size)
+        if problem:
+            raise ValueError(problem)
         return size
 
     @model_validator(mode="after")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -14,6 +13,7 @@ from homebench.config import MetricsConfig, kind_of
 from homebench.data.naming import database_label
 from homebench.errors import DataError
 from homebench.evaluation.results import RunTables, build_tables
+from homebench.fileio import parse_json, read_record_text
 
 CONFIG_FILE = "config.resolved.json"
 ENVIRONMENT_FILE = "environment.json"
@@ -88,8 +88,10 @@ class RunData(RunInfo):
 
 
 def _read_json(path: Path) -> dict[str, Any]:
+    """The JSON object in ``path``; DataError naming it when it is missing, too large, not
+    JSON (nested too deeply for the parser included) or not an object."""
     try:
-        value = json.loads(path.read_text(encoding="utf-8"))
+        value = parse_json(read_record_text(path))
     except FileNotFoundError:
         raise DataError(f"{path}: missing; is {path.parent} a homebench run folder?") from None
     except (OSError, ValueError) as error:

@@ -51,7 +51,7 @@ def run_labels(run_dirs: Sequence[Path], labels: Sequence[str] = ()) -> list[str
         parts = [Path(d).resolve().parts for d in run_dirs]
         depth = [1] * len(parts)
         while True:
-            chosen = ["/".join(p[-k:]) for p, k in zip(parts, depth, strict=True)]
+            chosen = [Path(*p[-k:]).as_posix() for p, k in zip(parts, depth, strict=True)]
             repeated = [
                 i for i, c in enumerate(chosen) if chosen.count(c) > 1 and depth[i] < len(parts[i])
             ]
