@@ -19,8 +19,7 @@ from __future__ import annotations
 import json
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
-from functools import cached_property
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -139,29 +138,28 @@ class Tables:
 
     ``summary``: one row per condition and method, each metric with its 95 % interval
     (``*_lo``, ``*_hi``); ``pairs``: one row per (goal, current) pair, angles in degrees
-    (``*_deg``); ``goals``: per goal; ``ahc``: per distance bin; ``rr_starts``: every
-    return-ratio start; ``summary_by_seed``: per world seed (empty unless seeds are swept);
-    ``missing_jobs``: jobs without a result (other shards, failures).
+    (``*_deg``); ``goals``: per goal; ``ahc``: per distance bin; ``bands``: the headline
+    metrics per distance band; ``rr_starts``: every return-ratio start; ``summary_by_seed``:
+    per world seed (empty unless seeds are swept); ``missing_jobs``: jobs without a result
+    (other shards, failures).
     """
 
     summary: pd.DataFrame
     pairs: pd.DataFrame
     goals: pd.DataFrame
     ahc: pd.DataFrame
+    bands: pd.DataFrame
     rr_starts: pd.DataFrame
     summary_by_seed: pd.DataFrame
     missing_jobs: tuple[str, ...]
+    _run: RunTables = field(repr=False, compare=False)
 
-    @cached_property
+    @property
     def comparisons(self) -> pd.DataFrame:
         """Every pair of methods within each condition: differences of mean AE, AHC and RR
         (B - A) with intervals and Holm-adjusted p-values (see
         :func:`homebench.evaluation.comparisons.comparison_table`); computed on first use."""
-        from homebench.evaluation.comparisons import comparison_table
-
-        if self.pairs.empty:
-            return pd.DataFrame()
-        return comparison_table(self.pairs, self.rr_starts)
+        return self._run.comparisons if not self.pairs.empty else pd.DataFrame()
 
 
 def tables(run_dir: str | Path) -> Tables:
@@ -175,8 +173,8 @@ def tables(run_dir: str | Path) -> Tables:
     if info.kind != "grid":
         raise DataError(f"{run_dir}: a {info.kind} run; its tables are in tables/ there")
     t = grid_run(info).tables
-    return Tables(t.summary, t.pairs, t.goals, t.ahc, t.rr_starts, t.summary_by_seed,
-                  t.missing_jobs)  # fmt: skip
+    return Tables(t.summary, t.pairs, t.goals, t.ahc, t.bands, t.rr_starts, t.summary_by_seed,
+                  t.missing_jobs, t)  # fmt: skip
 
 
 def figure_names(run_dir: str | Path) -> list[str]:

@@ -19,6 +19,8 @@ MAX_JOBS = 1_000_000
 MAX_PAIRS = 10_000_000
 #: Most AHC distance bins (each a mask over every pair; seed 001 has 13).
 MAX_AHC_BINS = 1000
+#: Most distance bands of the band table (each a mask over every pair; the default has 3).
+MAX_BANDS = 20
 
 
 def workers_problem(jobs: int) -> str:

@@ -31,7 +31,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
-from homebench.bounds import MAX_AHC_BINS, count_problem, workers_problem
+from homebench.bounds import MAX_AHC_BINS, MAX_BANDS, count_problem, workers_problem
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
@@ -156,11 +156,23 @@ class ReturnRatioConfig(_Strict):
     max_travel: float | None = Field(None, gt=0)  # grid units; None: half the grid's perimeter
 
 
+#: The two AHCs of the literature: seed 001's eq. 12, the cosine of the mean AE
+#: (``cos_mean_ae``), and the mean of the cosines, the mean homeward component of a unit home
+#: vector (``mean_cos``), which Vardy & Möller (2005) and Möller & Vardy (2006) report.
+AhcDefinition = Literal["cos_mean_ae", "mean_cos"]
+
+
 class AhcConfig(_Strict):
+    """The AHC: its distance bins (cm), how a pair without an estimate enters it (``exclude``:
+    left out, the paper's reading; ``orthogonal``: as 90 deg) and its ``definition``: seed
+    001's eq. 12, ``cos_mean_ae`` (the cosine of the mean AE), or ``mean_cos`` (the mean of the
+    cosines, as Vardy & Möller and Möller & Vardy report it)."""
+
     bin_start_cm: float = Field(30.0, gt=0)
     bin_stop_cm: float = Field(390.0, gt=0)
     bin_step_cm: float = Field(30.0, gt=0)
     missing: Literal["exclude", "orthogonal"] = "exclude"
+    definition: AhcDefinition = "cos_mean_ae"
 
     @model_validator(mode="after")
     def _bins(self) -> AhcConfig:
@@ -175,9 +187,26 @@ class AhcConfig(_Strict):
 
 
 class MetricsConfig(_Strict):
+    """The metrics: the AHC's, the return ratio's, Möller's catchment, and the edges of the
+    distance bands (m, increasing) the band table reports the headline metrics in (the
+    defaults: near, below 1.2 m; mid, to 2.4 m; far, beyond), so that one mean does not blend
+    a method that works near the goal with one that fails far from it."""
+
     ahc: AhcConfig = AhcConfig()
     return_ratio: ReturnRatioConfig = ReturnRatioConfig()
     catchment: bool = True
+    band_edges_m: tuple[float, ...] = (1.2, 2.4)
+
+    @field_validator("band_edges_m")
+    @classmethod
+    def _edges(cls, edges: tuple[float, ...]) -> tuple[float, ...]:
+        if not 1 <= len(edges) < MAX_BANDS:
+            raise ValueError(f"give 1 to {MAX_BANDS - 1} band edges, got {len(edges)}")
+        if edges[0] <= 0 or not all(a < b for a, b in itertools.pairwise(edges)):
+            raise ValueError(f"band edges must be positive and increasing, got {list(edges)}")
+        if not all(math.isfinite(e) for e in edges):
+            raise ValueError("band edges must be finite")
+        return edges
 
 
 class RotationConfig(_Strict):

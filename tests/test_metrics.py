@@ -204,3 +204,39 @@ def test_home_field_validates_and_freezes():
     assert f.angles[0, 0] == 0.0
     with pytest.raises(ValueError):
         f.angles[0, 0] = 1.0
+
+
+def test_the_two_ahc_definitions_against_hand_computed_values() -> None:
+    """Seed 001's eq. 12 (cos of the mean AE) and the mean of the cosines (Vardy & Möller)."""
+    ae = np.radians([0.0, 60.0, 120.0])
+    assert ahc(ae) == pytest.approx(0.5)  # cos 60
+    assert ahc(ae, definition="mean_cos") == pytest.approx((1.0 + 0.5 - 0.5) / 3)
+    holes = np.radians([0.0, 90.0, np.nan])
+    assert ahc(holes) == pytest.approx(np.cos(np.radians(45.0)))
+    assert ahc(holes, definition="mean_cos") == pytest.approx(0.5)
+    assert ahc(holes, "orthogonal") == pytest.approx(0.5)  # cos(mean(0, 90, 90))
+    assert ahc(holes, "orthogonal", "mean_cos") == pytest.approx(1.0 / 3.0)
+
+
+def test_a_run_reports_the_ahc_of_its_configured_definition(tmp_path) -> None:
+    from test_report_runs import FakeMethod, write_fake_run
+
+    from homebench.config import MetricsConfig
+    from homebench.evaluation.results import build_tables
+
+    holes = FakeMethod("holes", 30.0, frozenset({(0, 0), (3, 4)}))  # 4 of 38 pairs missing
+    run = write_fake_run(tmp_path, [holes, FakeMethod("ten", 10.0)])
+    paper = build_tables(run, MetricsConfig()).summary.set_index("method")
+    vardy = MetricsConfig.model_validate({"ahc": {"definition": "mean_cos"}})
+    other = build_tables(run, vardy).summary.set_index("method")
+    share = 4 / 38
+    mean90 = (1 - share) * 30.0 + share * 90.0
+    assert paper.loc["holes", "ahc_missing90"] == pytest.approx(np.cos(np.radians(mean90)))
+    assert other.loc["holes", "ahc_missing90"] == pytest.approx(
+        (1 - share) * np.cos(np.radians(30.0))
+    )
+    # every pair with an estimate errs alike: the definitions agree there
+    assert other.loc["holes", "ahc"] == pytest.approx(paper.loc["holes", "ahc"])
+    tables = build_tables(run, vardy)
+    row = tables.comparisons.set_index(["metric"]).loc["ahc"]
+    assert row["value_b"] == pytest.approx(np.cos(np.radians(10.0)))

@@ -17,6 +17,7 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
+from homebench.config import AhcDefinition
 from homebench.evaluation.metrics import Missing
 from homebench.evaluation.results import gives_directions, goal_labels
 from homebench.evaluation.statistics import (
@@ -110,13 +111,14 @@ def compare_cells(
     missing: Missing = "orthogonal",
     n_boot: int = N_BOOT,
     level: float = LEVEL,
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> tuple[AeComparison, RrComparison]:
     """B against A on their matched pairs (``ae``: the AE cells of A and B) and matched
     return-ratio starts (``rr``: their success cells), resampled and flipped from ``seed``."""
     ae_a, ae_b, goal = matched(*ae)
     ok_a, ok_b, start_goal = matched(*rr)
     return (
-        compare_ae(ae_a, ae_b, goal, missing, n_boot, level, seed),
+        compare_ae(ae_a, ae_b, goal, missing, n_boot, level, seed, definition),
         compare_rr(ok_a.astype(bool), ok_b.astype(bool), start_goal, n_boot, level, seed),
     )
 
@@ -130,17 +132,19 @@ def compare_methods(
     missing: Missing = "orthogonal",
     n_boot: int = N_BOOT,
     level: float = LEVEL,
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> MethodComparison:
     """Compare method ``b`` with method ``a`` (labels) under ``condition``.
 
     ``missing``: how a pair without an estimate in either method is compared (see
-    :func:`~homebench.evaluation.statistics.compare_ae`). The seed of the resamples and sign
-    flips is derived from (condition, a, b): the same tables give the same numbers.
+    :func:`~homebench.evaluation.statistics.compare_ae`); ``definition``: the AHC's. The seed
+    of the resamples and sign flips is derived from (condition, a, b): the same tables give
+    the same numbers.
     """
     chosen = [_rows_of(table, condition, (a, b)) for table in (pairs, rr_starts)]
     ae = keyed_cells(chosen[0], PAIR_POSITION, "ae")
     rr = keyed_cells(chosen[1], START_POSITION, "success")
-    return _compare(ae, rr, condition, a, b, missing, n_boot, level)
+    return _compare(ae, rr, condition, (a, b), missing, n_boot, level, definition)
 
 
 def _rows_of(table: pd.DataFrame, condition: str, methods: tuple[str, ...]) -> pd.DataFrame:
@@ -153,16 +157,17 @@ def _compare(
     ae: Keyed,
     rr: Keyed,
     condition: str,
-    a: str,
-    b: str,
+    methods: tuple[str, str],
     missing: Missing,
     n_boot: int,
     level: float,
+    definition: AhcDefinition,
 ) -> MethodComparison:
+    a, b = methods
     seed = derived_seed("compare", condition, a, b)
     ae_cells = (ae.get((condition, a), EMPTY_CELL), ae.get((condition, b), EMPTY_CELL))
     rr_cells = (rr.get((condition, a), EMPTY_CELL), rr.get((condition, b), EMPTY_CELL))
-    found = compare_cells(ae_cells, rr_cells, seed, missing, n_boot, level)
+    found = compare_cells(ae_cells, rr_cells, seed, missing, n_boot, level, definition)
     return MethodComparison(condition, a, b, *found)
 
 
@@ -172,8 +177,10 @@ def comparison_table(
     missing: Missing = "orthogonal",
     n_boot: int = N_BOOT,
     level: float = LEVEL,
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> pd.DataFrame:
-    """Every pair of methods (a before b in label order) within each condition, tidy.
+    """Every pair of methods (a before b in label order) within each condition, tidy; the
+    AHC by ``definition``.
 
     One row per (condition, a, b, metric), metric ``mean_ae_deg`` (degrees), ``ahc`` or
     ``rr``: ``value_a``, ``value_b`` (on the compared pairs or starts), ``difference`` = B - A
@@ -186,7 +193,7 @@ def comparison_table(
     ae = keyed_cells(pairs, PAIR_POSITION, "ae")
     rr = keyed_cells(rr_starts, START_POSITION, "success")
     found = [
-        _compare(ae, rr, condition, a, b, missing, n_boot, level)
+        _compare(ae, rr, condition, (a, b), missing, n_boot, level, definition)
         for condition in sorted({c for c, _ in ae})
         for a, b in combinations(sorted(m for c, m in ae if c == condition), 2)
     ]

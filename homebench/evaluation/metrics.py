@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:  # imported where tables are made: job workers need the per-pair metrics only
     import pandas as pd
 
+from homebench.config import AhcDefinition
 from homebench.geometry import FloatArray, Grid, angular_error, robot_to_world, world_direction
 
 Missing = Literal["exclude", "orthogonal"]
@@ -131,14 +132,23 @@ def _mean_ae(ae: FloatArray, missing: Missing) -> float:
     return float(np.mean(a)) if a.size else float("nan")
 
 
-def ahc(ae: ArrayLike, missing: Missing = "exclude") -> float:
-    """Average homeward component (eq. 12): cos of the mean AE; NaN when there is no pair.
+def ahc(
+    ae: ArrayLike, missing: Missing = "exclude", definition: AhcDefinition = "cos_mean_ae"
+) -> float:
+    """Average homeward component; NaN when there is no pair. ``definition``
+    (:data:`AhcDefinition`): ``cos_mean_ae``, seed 001's eq. 12, the cos of the mean AE;
+    ``mean_cos``, the mean of cos(AE).
 
     ``missing="exclude"``: the mean is over the pairs with an estimate (count the others with
-    :func:`ae_summary`); ``"orthogonal"``: a missing estimate counts as AE = pi/2, the expected
-    error of a random guess.
+    :func:`ae_summary`); ``"orthogonal"``: a missing estimate counts as AE = pi/2 (a homeward
+    component of 0), the expected error of a random guess.
     """
-    return float(np.cos(_mean_ae(np.asarray(ae, dtype=np.float64).ravel(), missing)))
+    a = np.asarray(ae, dtype=np.float64).ravel()
+    if definition == "mean_cos":
+        cosines = np.cos(with_missing(a, missing))
+        cosines = cosines[~np.isnan(cosines)]
+        return float(np.mean(cosines)) if cosines.size else float("nan")
+    return float(np.cos(_mean_ae(a, missing)))
 
 
 def ahc_by_distance(
@@ -146,6 +156,7 @@ def ahc_by_distance(
     distance_m: ArrayLike,
     bins_cm: Iterable[float] = AHC_BINS_CM,
     missing: Missing = "exclude",
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> pd.DataFrame:
     """AHC per distance bin (seed 001, Figure 9), plus a last row ``bin = "all"``.
 
@@ -154,7 +165,8 @@ def ahc_by_distance(
 
     Columns: ``bin`` (centre as text, or "all"), ``centre_cm``, ``low_cm``, ``high_cm``, ``n``
     (pairs, with or without estimate), ``n_missing``, ``mean_ae_rad``, ``mean_ae_deg``, ``ahc``
-    (mean and AHC as :func:`ahc` with ``missing``; NaN for a bin without pairs).
+    (mean and AHC as :func:`ahc` with ``missing`` and ``definition``; NaN for a bin without
+    pairs).
     """
     a = np.asarray(ae, dtype=np.float64).ravel()
     if a.size != np.size(distance_m):
@@ -162,7 +174,7 @@ def ahc_by_distance(
     import pandas as pd
 
     bins, masks = distance_bins(distance_m, bins_cm)
-    stats = pd.DataFrame([_bin_stats(a[mask], missing) for mask in masks])
+    stats = pd.DataFrame([_bin_stats(a[mask], missing, definition) for mask in masks])
     return pd.concat([bins, stats], axis=1)
 
 
@@ -203,7 +215,9 @@ def distance_bins(
     return bins, np.vstack([inside, np.ones((1, d_cm.size), dtype=bool)])
 
 
-def _bin_stats(ae: FloatArray, missing: Missing) -> dict[str, float | int]:
+def _bin_stats(
+    ae: FloatArray, missing: Missing, definition: AhcDefinition
+) -> dict[str, float | int]:
     """The statistics of one bin of :func:`ahc_by_distance` for its AE values (1-D, NaN =
     missing)."""
     mean = _mean_ae(ae, missing)
@@ -212,5 +226,5 @@ def _bin_stats(ae: FloatArray, missing: Missing) -> dict[str, float | int]:
         "n_missing": int(np.sum(np.isnan(ae))),
         "mean_ae_rad": mean,
         "mean_ae_deg": float(np.degrees(mean)),
-        "ahc": float(np.cos(mean)),
+        "ahc": ahc(ae, missing, definition),
     }

@@ -13,6 +13,7 @@ factors, so the tables are identical across runs and job counts.
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 import math
 from dataclasses import dataclass, field
@@ -24,13 +25,12 @@ import pandas as pd
 from pydantic import ValidationError
 
 from homebench.bounds import MAX_JOBS
-from homebench.config import MetricsConfig
+from homebench.config import AhcConfig, MetricsConfig
 from homebench.data.synth.spec import STYLES
 from homebench.errors import DataError
 from homebench.evaluation.jobs import read_result
 from homebench.evaluation.metrics import (
     HomeField,
-    Missing,
     ae_summary,
     ahc_by_distance,
     distance_bins,
@@ -77,6 +77,8 @@ LEADING = [
 #: The factors of a goal's job (the keys of the goal and return-ratio tables; the databases'
 #: keys follow from the style, seed and condition).
 GOAL_FACTORS = [c for c in LEADING[:-2] if not c.endswith("_database_key")]
+#: The factors of a goal in the goal table (``goals.csv``), before its metrics.
+GOAL_COLUMNS = ["style", "seed", "condition", "method", "goal_i", "goal_j"]
 #: Columns of the per-start return-ratio outcomes (``rr_starts.csv``).
 RR_START_COLUMNS = [
     *GOAL_FACTORS,
@@ -217,8 +219,7 @@ def goal_tables(pairs: pd.DataFrame, metrics: MetricsConfig) -> tuple[pd.DataFra
         factors["seed"] = None if pd.isna(factors["seed"]) else int(factors["seed"])
         factors["style"] = None if pd.isna(factors["style"]) else str(factors["style"])
         home_field, complete = _field_of(group)
-        names = ("style", "seed", "condition", "method", "goal_i", "goal_j")
-        row = {name: factors[name] for name in names}
+        row = {name: factors[name] for name in GOAL_COLUMNS}
         row["rr"] = math.nan
         if metrics.catchment:
             row["catchment"] = catchment(home_field).ratio if complete else math.nan
@@ -227,7 +228,8 @@ def goal_tables(pairs: pd.DataFrame, metrics: MetricsConfig) -> tuple[pd.DataFra
             row["rr"] = result.rr
             outcomes.append((factors, result.outcomes()))
         rows.append(row)
-    return pd.DataFrame(rows), _start_table(outcomes)
+    columns = [*GOAL_COLUMNS, "rr", *(["catchment"] if metrics.catchment else [])]
+    return pd.DataFrame(rows, columns=columns), _start_table(outcomes)
 
 
 def _start_table(outcomes: list[tuple[dict[str, Any], dict[str, np.ndarray]]]) -> pd.DataFrame:
@@ -269,6 +271,53 @@ def _bounds(name: str, interval: Interval) -> dict[str, float]:
     return {name: interval.estimate, f"{name}_lo": interval.lo, f"{name}_hi": interval.hi}
 
 
+def band_table(pairs: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP) -> pd.DataFrame:
+    """The headline metrics per distance band (``metrics.band_edges_m``: from 0 to the first
+    edge, between edges, beyond the last) for each ``by``: the factors, ``band`` (its range
+    as text), ``low_m``, ``high_m`` (inf for the last), ``pairs`` and ``n_goals`` in it, then
+    with bounds ``no_estimate_share``, ``mean_ae_deg``, ``ahc``, ``ahc_missing90`` (as in
+    :func:`summary_table`), ``rotation_error_deg`` and ``rotation_flip_share``. The direction
+    columns are NaN for a method that gives no home direction; the resamples are the
+    summary's (seeded by the cell)."""
+    cfg = metrics.ahc
+    edges = [0.0, *metrics.band_edges_m, math.inf]
+    rows = []
+    for key, group in pairs.groupby(by, sort=True, dropna=False):
+        ae = group["ae"].to_numpy(dtype=float)
+        distance = group["distance_m"].to_numpy(dtype=float)
+        masks = np.stack(
+            [(distance >= lo) & (distance < hi) for lo, hi in itertools.pairwise(edges)]
+        )
+        resampler = cell_resampler(group, *key)
+        share = mean_intervals(np.isnan(ae), resampler, masks)
+        mean_ae = mean_intervals(ae, resampler, masks)
+        ahc = ahc_intervals(ae, resampler, cfg.missing, masks, definition=cfg.definition)
+        ahc90 = ahc_intervals(ae, resampler, "orthogonal", masks, definition=cfg.definition)
+        errors = group["rotation_error"].to_numpy(dtype=float)
+        rotation = mean_intervals(errors, resampler, masks)
+        flips = mean_intervals(flipped(errors), resampler, masks)
+        directs = gives_directions(group).all()
+        for k, (lo, hi) in enumerate(itertools.pairwise(edges)):
+            row = {
+                **dict(zip(by, key, strict=True)),
+                "band": f"{lo:g}-{hi:g} m" if math.isfinite(hi) else f"from {lo:g} m",
+                "low_m": lo,
+                "high_m": hi,
+                "pairs": share[k].n_pairs,
+                "n_goals": share[k].n_goals,
+                **_bounds("no_estimate_share", share[k]),
+                **_bounds("mean_ae_deg", mean_ae[k].transformed(np.degrees)),
+                **_bounds("ahc", ahc[k]),
+                **_bounds("ahc_missing90", ahc90[k]),
+                **_bounds("rotation_error_deg", rotation[k].transformed(np.degrees)),
+                **_bounds("rotation_flip_share", flips[k]),
+            }
+            if not directs:
+                row |= {name: math.nan for name in DIRECTION_COLUMNS if name in row}
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
 def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP) -> pd.DataFrame:
     """AHC per distance bin for each ``by`` (condition and method, with "style" first when a
     run sweeps styles; the paper's Figure 9).
@@ -283,10 +332,10 @@ def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP
     for key, group in pairs.groupby(by, sort=True):
         ae = group["ae"].to_numpy(dtype=float)
         distance = group["distance_m"].to_numpy(dtype=float)
-        table = ahc_by_distance(ae, distance, bins, cfg.missing)
+        table = ahc_by_distance(ae, distance, bins, cfg.missing, cfg.definition)
         resampler = cell_resampler(group, *key)
         masks = distance_bins(distance, bins)[1]
-        table = pd.concat([table, _bin_uncertainty(ae, resampler, masks, cfg.missing)], axis=1)
+        table = pd.concat([table, _bin_uncertainty(ae, resampler, masks, cfg)], axis=1)
         for name, value in reversed(list(zip(by, key, strict=True))):
             table.insert(0, name, value)
         frames.append(table)
@@ -294,13 +343,13 @@ def ahc_table(pairs: pd.DataFrame, metrics: MetricsConfig, by: list[str] = GROUP
 
 
 def _bin_uncertainty(
-    ae: np.ndarray, resampler: GoalResampler, masks: np.ndarray, missing: Missing
+    ae: np.ndarray, resampler: GoalResampler, masks: np.ndarray, cfg: AhcConfig
 ) -> pd.DataFrame:
     """The uncertainty columns of :func:`ahc_table`, a row per distance bin (``masks``:
     (n_bins, n_pairs) bool)."""
     share = mean_intervals(np.isnan(ae), resampler, masks)
-    ahc = ahc_intervals(ae, resampler, missing, masks)
-    missing90 = ahc_intervals(ae, resampler, "orthogonal", masks)
+    ahc = ahc_intervals(ae, resampler, cfg.missing, masks, definition=cfg.definition)
+    missing90 = ahc_intervals(ae, resampler, "orthogonal", masks, definition=cfg.definition)
     return pd.DataFrame(
         {
             "n_goals": share[k].n_goals,
@@ -323,9 +372,10 @@ def summary_table(
     ``median_ae_deg`` (no bounds), ``rotation_error_deg`` (mean over the pairs with a
     rotation estimate; NaN for methods that report none), ``ahc`` (missing estimates as
     configured, by default left out as in the paper), ``ahc_missing90`` (a missing estimate
-    counts as 90 deg), ``rr``
-    (mean over the goals whose field covers the grid), ``catchment`` if configured; times.
+    counts as 90 deg), both by the configured definition, ``rr`` (mean over the goals whose
+    field covers the grid), ``catchment`` if configured; times.
     """
+    cfg = metrics.ahc
     rows = []
     for key, group in pairs.groupby(by, sort=True, dropna=False):
         factors = dict(zip(by, key, strict=True))
@@ -346,8 +396,11 @@ def summary_table(
             **_bounds("mean_ae_deg", mean_interval(ae, resampler).transformed(np.degrees)),
             "median_ae_deg": ae_summary(ae)["median_deg"],
             **_rotation_bounds(group, resampler),
-            **_bounds("ahc", ahc_interval(ae, resampler, metrics.ahc.missing)),
-            **_bounds("ahc_missing90", ahc_interval(ae, resampler, "orthogonal")),
+            **_bounds("ahc", ahc_interval(ae, resampler, cfg.missing, definition=cfg.definition)),
+            **_bounds(
+                "ahc_missing90",
+                ahc_interval(ae, resampler, "orthogonal", definition=cfg.definition),
+            ),
             **_bounds("rr", mean_interval(per_goal["rr"], by_goal)),
             "describe_ms": describe_ms.mean(),
             "home_ms": group["home_ms"].mean(),
@@ -377,13 +430,29 @@ def gives_directions(pairs: pd.DataFrame) -> pd.Series:
 
 
 def _rotation_bounds(group: pd.DataFrame, resampler: GoalResampler) -> dict[str, float]:
-    """``rotation_error_deg`` with its bounds: the mean over the pairs with a rotation
-    estimate, in degrees; nothing for a pair table without rotation errors (not built by
-    :func:`load_pairs`)."""
+    """``rotation_error_deg`` (the mean over the pairs with a rotation estimate, in degrees)
+    and ``rotation_flip_share`` (the share of those off by more than :data:`FLIP_DEG`, a view
+    taken for its opposite), with their bounds; nothing for a pair table without rotation
+    errors (not built by :func:`load_pairs`)."""
     if "rotation_error" not in group:
         return {}
     errors = group["rotation_error"].to_numpy(dtype=float)
-    return _bounds("rotation_error_deg", mean_interval(errors, resampler).transformed(np.degrees))
+    error = mean_interval(errors, resampler).transformed(np.degrees)
+    flips = mean_interval(flipped(errors), resampler)
+    return _bounds("rotation_error_deg", error) | _bounds("rotation_flip_share", flips)
+
+
+#: A rotation estimate off by more than this (degrees) is a flip: the view taken for its
+#: opposite, as the visual compass does far from the goal.
+FLIP_DEG = 150.0
+
+
+def flipped(rotation_error: np.ndarray) -> np.ndarray:
+    """1.0 where a rotation error (radians) exceeds :data:`FLIP_DEG`, 0.0 where not, NaN
+    where there is no rotation estimate; shape of ``rotation_error``."""
+    return np.where(np.isnan(rotation_error), np.nan, rotation_error > np.radians(FLIP_DEG)).astype(
+        float
+    )
 
 
 @dataclass(frozen=True)
@@ -398,6 +467,8 @@ class RunTables:
     missing_jobs: tuple[str, ...]
     summary_by_seed: pd.DataFrame = field(default_factory=pd.DataFrame)
     rr_starts: pd.DataFrame = field(default_factory=pd.DataFrame)
+    metrics: MetricsConfig = field(default_factory=MetricsConfig)
+    bands: pd.DataFrame = field(default_factory=pd.DataFrame)
 
     @functools.cached_property
     def comparisons(self) -> pd.DataFrame:
@@ -410,7 +481,7 @@ def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
     loaded = load_pairs(run_dir)
     if loaded.pairs.empty:
         empty = pd.DataFrame()
-        return RunTables(empty, empty, empty, empty, loaded.missing_jobs)
+        return RunTables(empty, empty, empty, empty, loaded.missing_jobs, metrics=metrics)
     pairs = loaded.pairs
     answered = pairs[pairs["error"].isna()]  # failed pairs: no metric, only n_failed
     directed = answered[gives_directions(answered)]  # rotation-only methods: no field, no AHC
@@ -428,6 +499,8 @@ def build_tables(run_dir: Path, metrics: MetricsConfig) -> RunTables:
         if swept
         else pd.DataFrame(),
         rr_starts,
+        metrics,
+        band_table(answered, metrics, by),
     )
 
 
@@ -479,10 +552,13 @@ def method_comparisons(tables: RunTables) -> pd.DataFrame:
     from homebench.evaluation.comparisons import comparison_table  # that module imports this
 
     pairs, starts = tables.pairs, tables.rr_starts
+    definition = tables.metrics.ahc.definition
     if pairs.empty or not pairs["style"].notna().any():
-        return comparison_table(pairs, starts)
+        return comparison_table(pairs, starts, definition=definition)
     frames = [
-        comparison_table(group, starts[starts["style"] == style]).assign(style=style)
+        comparison_table(group, starts[starts["style"] == style], definition=definition).assign(
+            style=style
+        )
         for style, group in pairs.groupby("style", sort=True)
     ]
     table = pd.concat(frames, ignore_index=True)
@@ -511,6 +587,7 @@ def write_tables(tables: RunTables, run_dir: Path, table_format: str) -> list[Pa
         ("ahc", tables.ahc),
         ("rr_starts", tables.rr_starts),
         ("comparisons", tables.comparisons),
+        ("bands", tables.bands),
     ]
     if not tables.summary_by_seed.empty:
         named.append(("summary_by_seed", tables.summary_by_seed))

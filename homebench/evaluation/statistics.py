@@ -50,6 +50,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import special
 
+from homebench.config import AhcDefinition
 from homebench.evaluation.metrics import Missing, with_missing
 from homebench.geometry import FloatArray
 
@@ -239,11 +240,17 @@ def ahc_intervals(
     missing: Missing = "exclude",
     groups: ArrayLike | None = None,
     level: float = LEVEL,
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> list[Interval]:
-    """AHC = cos(mean AE) (seed 001, eq. 12) of each group of pairs with its interval, the
-    cos of the mean-AE interval. ``ae``: (n_pairs,) radians, NaN = no estimate, handled per
-    ``missing``; ``groups`` as in :func:`mean_intervals`."""
-    means = mean_intervals(with_missing(ae, missing), resampler, groups, level)
+    """The AHC of each group of pairs with its interval: seed 001's eq. 12, cos(mean AE) and
+    the cos of the mean-AE interval (``definition="cos_mean_ae"``), or the mean of cos(AE) and
+    its interval (``"mean_cos"``; see :data:`~homebench.evaluation.metrics.AhcDefinition`).
+    ``ae``: (n_pairs,) radians, NaN = no estimate, handled per ``missing``; ``groups`` as in
+    :func:`mean_intervals`."""
+    counted = with_missing(ae, missing)
+    if definition == "mean_cos":
+        return mean_intervals(np.cos(counted), resampler, groups, level)
+    means = mean_intervals(counted, resampler, groups, level)
     return [mean.transformed(np.cos, increasing=False) for mean in means]
 
 
@@ -253,10 +260,11 @@ def ahc_interval(
     missing: Missing = "exclude",
     where: ArrayLike | None = None,
     level: float = LEVEL,
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> Interval:
     """:func:`ahc_intervals` of the pairs in ``where`` ((n_pairs,) bool; default all)."""
     groups = None if where is None else np.asarray(where)[None]
-    return ahc_intervals(ae, resampler, missing, groups, level)[0]
+    return ahc_intervals(ae, resampler, missing, groups, level, definition)[0]
 
 
 # --------------------------------------------------------------------------- paired tests
@@ -353,26 +361,21 @@ class AeComparison:
 
     ``mean_ae``: difference of the mean AE (radians; negative: B errs less), with
     ``mean_ae_a`` and ``mean_ae_b`` on the compared pairs. ``ahc``: difference of AHC
-    (positive: B better). ``p_goal``: sign-flip test over goals (respects the clustering; also
-    the test of the AHC difference, as cos is monotone); ``p_wilcoxon``: per pair (ignores
-    it). ``n_excluded``: pairs left out for a missing estimate (``missing="exclude"``).
+    (positive: B better), with ``ahc_a`` and ``ahc_b``, by the AHC definition asked for.
+    ``p_goal``: sign-flip test of the AE over goals (respects the clustering; also the test
+    of the AHC difference); ``p_wilcoxon``: per pair (ignores it). ``n_excluded``: pairs left
+    out for a missing estimate (``missing="exclude"``).
     """
 
     mean_ae: Interval
     ahc: Interval
     mean_ae_a: Interval
     mean_ae_b: Interval
+    ahc_a: Interval
+    ahc_b: Interval
     p_goal: float
     p_wilcoxon: float
     n_excluded: int
-
-    @property
-    def ahc_a(self) -> Interval:
-        return self.mean_ae_a.transformed(np.cos, increasing=False)
-
-    @property
-    def ahc_b(self) -> Interval:
-        return self.mean_ae_b.transformed(np.cos, increasing=False)
 
 
 def compare_ae(
@@ -383,6 +386,7 @@ def compare_ae(
     n_boot: int = N_BOOT,
     level: float = LEVEL,
     seed: int = 0,
+    definition: AhcDefinition = "cos_mean_ae",
 ) -> AeComparison:
     """Paired comparison of two methods' AE (radians, NaN = no estimate) on the same pairs.
 
@@ -400,17 +404,27 @@ def compare_ae(
     a, b = a[keep], b[keep]
     resampler = GoalResampler(np.asarray(goal)[keep], n_boot, seed)
     on_a, on_b, diff = resampler.mean(a), resampler.mean(b), resampler.mean(b - a)
-    ahc_diff = Replicates(
-        float(np.cos(on_b.estimate) - np.cos(on_a.estimate)),
-        np.cos(on_b.values) - np.cos(on_a.values),
-        diff.n_pairs,
-        diff.n_goals,
-    )
+    if definition == "mean_cos":
+        cos_a, cos_b = resampler.mean(np.cos(a)), resampler.mean(np.cos(b))
+        ahc_a, ahc_b = cos_a.interval(level), cos_b.interval(level)
+        ahc_diff = Replicates(cos_b.estimate - cos_a.estimate, cos_b.values - cos_a.values,
+                              diff.n_pairs, diff.n_goals)  # fmt: skip
+    else:
+        ahc_a, ahc_b = (m.interval(level).transformed(np.cos, increasing=False)
+                        for m in (on_a, on_b))  # fmt: skip
+        ahc_diff = Replicates(
+            float(np.cos(on_b.estimate) - np.cos(on_a.estimate)),
+            np.cos(on_b.values) - np.cos(on_a.values),
+            diff.n_pairs,
+            diff.n_goals,
+        )
     return AeComparison(
         mean_ae=diff.interval(level),
         ahc=ahc_diff.interval(level),
         mean_ae_a=on_a.interval(level),
         mean_ae_b=on_b.interval(level),
+        ahc_a=ahc_a,
+        ahc_b=ahc_b,
         p_goal=sign_flip_test(resampler.goal_sums(b - a), seed=seed),
         p_wilcoxon=wilcoxon_test(b - a),
         n_excluded=int(np.sum(~keep)),

@@ -19,7 +19,8 @@ independent goal bootstrap of each run and a goal permutation test
 differ. A method that gives no home direction has only its time ratios. A pair without an
 estimate counts as 90 deg, as in the method comparisons, so a method that stops answering
 shows; values are on the compared pairs and may differ from the summary's (mean AE over pairs
-with an estimate).
+with an estimate). The AHC here is seed 001's (eq. 12, the cosine of the mean AE), whatever
+definition the runs' tables use.
 Every resample draws from a seed derived from the cell: the same runs give the same numbers.
 
 ``--fail-if`` thresholds (:class:`Threshold`) bound the change per cell.
