@@ -1,5 +1,6 @@
 """Möller's min-warping: search against brute force, the compiled kernels against the numpy
-reference, double and fine search, sign convention, rotation, degenerate inputs.
+reference, their buffers (reused, per thread, whatever they held), double and fine search, sign
+convention, rotation, degenerate inputs.
 
 Tolerance of the home direction on the arena world: 15 deg, as for 1-D warping (alpha and psi
 in 3.75 deg steps, scales quantised to 9 planes); errors measured on these pairs stay below
@@ -9,6 +10,9 @@ about 8 deg.
 from __future__ import annotations
 
 import math
+import multiprocessing
+import threading
+import tracemalloc
 from functools import lru_cache
 
 import numpy as np
@@ -25,8 +29,14 @@ from homebench.methods.min_warping import (
     column_distances,
     magnification_matrix,
     quantize,
+)
+from homebench.methods.min_warping_search import (
+    CompiledSearch,
+    NumpySearch,
+    kernels,
     rotation_costs,
     search_template,
+    workspace,
 )
 
 TOLERANCE = math.radians(15.0)
@@ -102,7 +112,7 @@ def _brute_force(distances: np.ndarray, step: int) -> np.ndarray:
 def test_search_equals_the_brute_force_minimum(engine, step):
     n, n_scales = 16, 5
     method = MinWarping(n_columns=n // step, columns_per_step=step, n_scales=n_scales)
-    stack = np.random.default_rng(1).integers(0, 60000, (n_scales, n, n)).astype(np.uint16)
+    stack = np.random.default_rng(1).integers(0, 256, (n_scales, n, n)).astype(np.uint8)
     swapped = np.ascontiguousarray(stack[::-1].transpose(0, 2, 1))
     np.testing.assert_array_equal(method.coarse(stack, engine), _brute_force(stack, step))
     np.testing.assert_array_equal(method.coarse(stack, engine, True), _brute_force(swapped, step))
@@ -125,7 +135,7 @@ def test_every_goal_column_may_stay_put_on_the_unit_scale_plane():
 def test_compiled_search_returns_the_numpy_reference_costs(n_columns, step, n_scales):
     method = MinWarping(n_columns=n_columns, columns_per_step=step, n_scales=n_scales)
     n = n_columns * step
-    stack = np.random.default_rng(n).integers(0, 65536, (n_scales, n, n)).astype(np.uint16)
+    stack = np.random.default_rng(n).integers(0, 256, (n_scales, n, n)).astype(np.uint8)
     compiled, numpy = method.searcher(stack, "numba"), method.searcher(stack, "numpy")
     for swap in (False, True):
         np.testing.assert_array_equal(compiled.coarse(swap), numpy.coarse(swap))
@@ -153,19 +163,98 @@ def test_compiled_path_gives_the_numpy_reference_estimate(dx, dy, heading, dista
     assert (a.angle, a.rotation, a.diagnostics) == (b.angle, b.rotation, b.diagnostics)
 
 
+def _features(*poses: Pose) -> list[np.ndarray]:
+    method = MinWarping()
+    return [method.describe(render(pose)) for pose in poses]
+
+
+def _estimate(current: np.ndarray, goal: np.ndarray) -> tuple:
+    estimate = MinWarping().home(current, goal)
+    return estimate.angle, estimate.rotation, estimate.score
+
+
+def test_read_only_features_give_the_same_estimate():
+    """Feature files are read into read-only arrays: the compiled kernels take them as they
+    are (each kernel has its one signature, read-only inputs)."""
+    current, goal = _features(Pose(-0.4, 0.5, 1.0), GOAL)
+    expected = _estimate(current, goal)
+    for array in (current, goal):
+        array.flags.writeable = False
+    assert _estimate(current, goal) == expected
+    compiled = kernels()
+    for name, signature in compiled.SIGNATURES.items():
+        assert getattr(compiled, name).signatures == [signature.args]
+
+
+def test_a_home_after_the_first_allocates_nothing_large():
+    current, goal, other = _features(Pose(-0.4, 0.5, 1.0), GOAL, Pose(0.9, -0.2, 2.0))
+    method = MinWarping()
+    method.home(current, goal)
+    tracemalloc.start()
+    try:
+        method.home(other, goal)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1_000_000  # the float stack, the stack and the tables (13 MB) are kept
+
+
+def test_results_do_not_depend_on_what_the_buffers_held():
+    current, goal = _features(Pose(-0.4, 0.5, 1.0), GOAL)
+    expected = _estimate(current, goal)
+    for array, _ in workspace()._arrays.values():
+        array[...] = 255 if array.dtype == np.uint8 else np.nan
+    assert _estimate(current, goal) == expected
+
+
+def test_a_search_rebuilds_a_table_another_search_overwrote():
+    method = MinWarping(n_columns=16, columns_per_step=2, n_scales=5)
+    rng = np.random.default_rng(4)
+    stacks = [rng.integers(0, 256, (5, 32, 32)).astype(np.uint8) for _ in range(2)]
+    first, second = (CompiledSearch(s, method.template, 2) for s in stacks)
+    for searcher, stack in [(first, stacks[0]), (second, stacks[1]), (first, stacks[0])]:
+        reference = NumpySearch(stack, method.template, 2)
+        for swap in (False, True):
+            np.testing.assert_array_equal(searcher.coarse(swap), reference.coarse(swap))
+
+
+def test_threads_search_with_their_own_buffers():
+    poses = [Pose(-0.4, 0.5, 1.0), Pose(0.9, -0.2, 2.0), Pose(0.3, 0.8, -1.0), Pose(-1.0, 0.1, 0)]
+    *currents, goal = _features(*poses, GOAL)
+    expected = [_estimate(current, goal) for current in currents]
+    results: dict[int, list[tuple]] = {}
+
+    def work(k: int) -> None:
+        results[k] = [_estimate(current, goal) for current in currents * 3]
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert all(result == expected * 3 for result in results.values())
+
+
+def test_a_forked_process_searches_as_its_parent():
+    current, goal = _features(Pose(-0.4, 0.5, 1.0), GOAL)
+    expected = _estimate(current, goal)  # the parent's buffers exist before the fork
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        assert pool.apply(_estimate, (current, goal)) == expected
+
+
 def test_rotation_costs_are_the_wrapped_diagonal_sums():
     """Each psi's cost is the sum over goal columns i of plane[i, (i - psi) % n], for coarse
     steps and fine offsets (any psi in band columns, negative and past n too)."""
-    plane = np.random.default_rng(3).integers(0, 65536, (12, 12)).astype(np.uint16)
+    plane = np.random.default_rng(3).integers(0, 256, (12, 12)).astype(np.uint8)
     psis = np.array([0, 3, 6, 9, 1, 2, 11, -1, 13])
     i = np.arange(12)
     expected = [int(plane[i, (i - psi) % 12].astype(np.int64).sum()) for psi in psis]
     np.testing.assert_array_equal(rotation_costs(plane, psis), expected)
 
 
-def test_quantize_scales_the_largest_distance_to_65535():
+def test_quantize_scales_the_largest_distance_to_255():
     stack = np.array([[[0.0, 1.0], [2.0, 4.0]]], dtype=np.float32)
-    np.testing.assert_array_equal(quantize(stack), [[[0, 16384], [32768, 65535]]])
+    np.testing.assert_array_equal(quantize(stack), [[[0, 64], [128, 255]]])
 
 
 def test_swapping_the_views_swaps_the_parameters_exactly():
