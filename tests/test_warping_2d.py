@@ -1,4 +1,6 @@
-"""Möller's 2D-warping: the 2-D warp model, the sign convention, rotation, degenerate inputs.
+"""Möller's 2D-warping: the 2-D warp model, the compiled kernels against the numpy reference
+(bit for bit) and the goal's part kept per goal, the sign convention, rotation, degenerate
+inputs.
 
 Tolerance of the home direction on the arena world: 15 deg, as for 1-D warping. Alpha and psi
 are searched in 3.75 deg steps (up to 1.9 deg of quantisation each, both enter beta = alpha -
@@ -10,6 +12,7 @@ at most 6.5 deg; mean 2.4 deg over the 5 x 5 lattice.
 from __future__ import annotations
 
 import math
+import threading
 
 import numpy as np
 import pytest
@@ -19,7 +22,12 @@ from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.warping_2d import Warping2D, landmark_distance
+from homebench.methods.warping_2d import (
+    GOAL_CACHE_SIZE,
+    Warping2D,
+    landmark_distance,
+    spectrum_sums,
+)
 
 TOLERANCE = math.radians(15.0)
 STEP = 2.0 * math.pi / 96  # one psi step: the rotation is found to within one step
@@ -68,6 +76,69 @@ def test_the_vertical_scaling_tells_distance_where_the_azimuth_cannot():
     current = method.describe(_cylinder_view(Pose(0.25, 0.0, 0.0)))
     cost = method.costs(current, goal)
     assert cost[5, 0, 0] < 0.2 * cost[0].min()  # rho = 0.25, alpha = 0, psi = 0
+
+
+def test_the_compiled_path_gives_the_reference_costs_bit_for_bit():
+    method = Warping2D()
+    current = method.describe(render(Pose(GOAL.x - 0.7, GOAL.y + 0.4, -1.1)))
+    goal = method.describe(render(GOAL))
+    for array in (current, goal):  # as feature files give them
+        array.flags.writeable = False
+    warped = method.warped_goals(goal, "numba")
+    np.testing.assert_array_equal(warped, method.warped_goals(goal, "numpy"))
+    np.testing.assert_array_equal(method.costs(current, goal, "numba"), method.costs(current, goal))
+    fast, reference = method.home(current, goal), method.home(current, goal, engine="numpy")
+    assert (fast.angle, fast.rotation, fast.score, fast.diagnostics) == (
+        reference.angle,
+        reference.rotation,
+        reference.score,
+        reference.diagnostics,
+    )
+
+
+def test_the_spectrum_sums_are_the_row_sums_of_the_complex_products():
+    rng = np.random.default_rng(5)
+    warped = rng.normal(size=(6, 4, 9)) + 1j * rng.normal(size=(6, 4, 9))
+    band = rng.normal(size=(4, 9)) + 1j * rng.normal(size=(4, 9))
+    expected = (warped * np.conj(band)).sum(axis=1)
+    np.testing.assert_allclose(spectrum_sums(warped, band), expected, rtol=1e-12, atol=1e-12)
+
+
+def test_the_goals_part_is_computed_once_per_goal(monkeypatch: pytest.MonkeyPatch):
+    method = Warping2D()
+    views = [method.describe(render(Pose(GOAL.x + 0.3 * k, GOAL.y, 0.2 * k))) for k in range(4)]
+    made = []
+    compute = Warping2D._goal_part
+
+    def counted(self, goal, engine):
+        made.append(goal[0, 0])
+        return compute(self, goal, engine)
+
+    monkeypatch.setattr(Warping2D, "_goal_part", counted)
+    for goal in views[:GOAL_CACHE_SIZE]:
+        for current in views:
+            method.home(current, goal.copy())  # the same bytes, another array
+    assert made == [goal[0, 0] for goal in views[:GOAL_CACHE_SIZE]]
+    method.home(views[0], views[-1])
+    assert len(made) == GOAL_CACHE_SIZE + 1
+
+
+def test_threads_may_share_a_method_and_its_kept_goals():
+    method = Warping2D()
+    views = [method.describe(render(Pose(GOAL.x + 0.3 * k, GOAL.y, 0.2 * k))) for k in range(4)]
+    pairs = [(c, g) for g in views[: GOAL_CACHE_SIZE + 1] for c in views[1:]]
+    expected = [method.home(c, g, engine="numpy").score for c, g in pairs]
+    results: dict[int, list] = {}
+
+    def work(k: int) -> None:
+        results[k] = [method.home(c, g).score for c, g in pairs]
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert all(result == expected for result in results.values())
 
 
 @pytest.mark.parametrize(
