@@ -1,20 +1,25 @@
-"""Min-warping per pair (one thread): CPU and wall time, compile time, a floor, and AE.
+"""Min-warping per pair against a floor and, side by side, Möller's C++ code (one thread).
 
-Prints, for one rendered pair of a generated world (288 x 72 unfolded panoramas, seed 0):
+For goal (5, 9) of a generated 10 x 17 grid of 288 x 72 panoramas against every other position
+(see ``benchmarks/peer.py``), in alternated rounds (medians reported, with the load at the
+start of each round; ratios CPU over CPU): the process CPU and wall time per pair of ``home``
+(``describe`` excluded, as in the peer's figures), with double and fine search (the default)
+and with both off,
 
-- the numba compile (or cache load) time of the kernels, first calls in this process;
-- per-pair process CPU time (``time.process_time``) and wall time of ``home`` (describe
-  excluded, as in Möller's figures) for the pure-numpy reference, the compiled path without
-  double / fine search, and with them (Möller's SIMD C++ on this machine type, issue 16: 16.0 ms
-  without, 29.7 ms with; targets 5 ms and 10 ms);
-- a floor measured in the same process: one ``np.minimum.reduce`` pass over a uint16 array of
-  the stack's size (9 x 288 x 288) and its ratio to each figure, plus the load average;
-- AE (deg) to the true home direction of one goal against every other position of a 10 x 17
-  grid, for the former setting (96-column band, no double / fine search) and the four
-  combinations of double / fine search on the 288-column band (C++ code: about 0.9 deg).
+- in this plain Python process (as the API, a notebook or a benchmark calls it) and in an
+  isolated job worker (forked from a worker server, the workers' allocator settings);
+- the floor, measured in this process: one ``np.minimum.reduce`` over an 8-bit stack of the
+  search's size (9 x 288 x 288);
+- with ``--peer PATH``: the peer with the same searches on homebench's band and on the full
+  image;
 
-Run: ``python benchmarks/bench_min_warping.py [--repeats N] [--cold] [--no-ae]``; ``--cold``
-compiles into an empty numba cache (the first-call compile time of a fresh install).
+and the AE of each. Then the kernels' import (compiled, or loaded from numba's cache), where
+a pair's CPU goes (stack, tables, coarse searches, fine search) and ``describe`` per view, in
+this process.
+
+Run: ``python benchmarks/bench_min_warping.py [--rounds N] [--pairs N] [--peer PATH]
+[--cold]``; ``--cold`` compiles the kernels into an empty numba cache (a fresh install's first
+import).
 """
 
 from __future__ import annotations
@@ -29,124 +34,103 @@ if "--cold" in sys.argv:
     os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="numba-cold-")
 
 import argparse  # noqa: E402
-import math  # noqa: E402
+import functools  # noqa: E402
+import importlib  # noqa: E402
 import time  # noqa: E402
+from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
-from timing import as_in_job_workers, cpu_and_wall  # noqa: E402
+import peer  # noqa: E402
+from timing import cpu_and_wall, load  # noqa: E402
 
-from homebench.data.synth.spec import WorldSpec  # noqa: E402
-from homebench.data.synth.world import render_position  # noqa: E402
-from homebench.geometry import angular_error, home_direction  # noqa: E402
-from homebench.methods import min_warping_kernels as kernels  # noqa: E402
 from homebench.methods.base import View  # noqa: E402
 from homebench.methods.min_warping import MinWarping  # noqa: E402
 
-SPEC = WorldSpec(
-    seed=0,
-    grid={"shape": [10, 17]},
-    unfolded={"width": 288, "elevation_top_deg": 45.0, "elevation_bottom_deg": -45.0},
-)
-GOAL = (5, 8)
-CONFIGS = {
-    "before (96 cols, single)": MinWarping(
-        columns_per_step=1, double_search=False, fine_search=False
-    ),
-    "288 cols, single": MinWarping(double_search=False, fine_search=False),
-    "288 cols, double": MinWarping(fine_search=False),
-    "288 cols, fine": MinWarping(double_search=False),
-    "288 cols, double + fine": MinWarping(),
-}
+SETTINGS = {"double + fine": {}, "searches off": {"double_search": False, "fine_search": False}}
 
 
-def _view(i: int, j: int) -> View:
-    return View(render_position(SPEC, i, j)["unfolded"], SPEC.unfolded.geometry())
+def import_kernels() -> None:
+    """Import the kernels (they compile, or load from the cache, as they are imported)."""
+    start = time.process_time()
+    kernels = importlib.import_module("homebench.methods.min_warping_kernels")
+    cpu = time.process_time() - start
+    misses = sum(len(getattr(kernels, name).stats.cache_misses) for name in kernels.SIGNATURES)
+    how = f"compiled ({misses} kernels)" if misses else "loaded from numba's cache"
+    print(f"kernels imported: {how}, {cpu:.2f} s CPU")
 
 
-def _compilecpu_and_wall(current: np.ndarray, goal: np.ndarray) -> None:
+def floor_figure(repeats: int) -> peer.Figure:
+    """The floor: CPU and wall ms of one np.minimum.reduce over a 9 x 288 x 288 uint8 stack."""
+    stack = np.zeros((9, 288, 288), dtype=np.uint8)
+    start = peer.load()
+    cpu, wall = cpu_and_wall(lambda: np.minimum.reduce(stack, axis=0), repeats)
+    return peer.Figure(1e3 * cpu, 1e3 * wall, (), start)
+
+
+def parts(current: np.ndarray, goal: np.ndarray, view: View) -> None:
+    """Where a pair's CPU goes, and ``describe`` of ``view`` (once per view: the peer repeats
+    its part of it, edge filter and magnification, for every pair), in this process (best of
+    three rounds of 20 calls)."""
     method = MinWarping()
-    start = time.perf_counter()
-    method.home(current, goal)
-    first = time.perf_counter() - start
-    hits = sum(len(f.stats.cache_hits) for f in _dispatchers())
-    misses = sum(len(f.stats.cache_misses) for f in _dispatchers())
-    source = "compiled" if misses else "loaded from the cache"
-    print(f"numba first call (kernels {source}: {hits} hits, {misses} misses): {first:.2f} s")
-
-
-def _dispatchers() -> list:
-    names = ("distance_planes", "quantize", "search_table", "coarse_costs", "table_costs")
-    return [getattr(kernels, name) for name in names]
-
-
-def timing(current: np.ndarray, goal: np.ndarray, repeats: int) -> None:
-    stack = np.zeros((9, 288, 288), dtype=np.uint16)
-    floor = cpu_and_wall(lambda: np.minimum.reduce(stack, axis=0), repeats * 10)[0]
-    rows = [
-        ("numpy reference, double + fine", MinWarping(), "numpy", 1),
-        ("compiled, single", CONFIGS["288 cols, single"], "numba", repeats),
-        ("compiled, double", CONFIGS["288 cols, double"], "numba", repeats),
-        ("compiled, double + fine", MinWarping(), "numba", repeats),
-    ]
-    print(f"floor: np.minimum.reduce over a 9 x 288 x 288 uint16 stack {floor * 1e3:.3f} ms")
-    print(f"{'home() per pair':34s} {'CPU ms':>8s} {'wall ms':>8s} {'/ floor':>8s}")
-    for label, method, engine, n in rows:
-        cpu, wall = cpu_and_wall(lambda m=method, e=engine: m.home(current, goal, engine=e), n)
-        print(f"{label:34s} {cpu * 1e3:8.2f} {wall * 1e3:8.2f} {cpu / floor:8.0f}")
-    method = MinWarping()
-    stack16 = method.quantized_stack(current, goal, "numba")
-    parts = {
-        "stack (distances + 16-bit)": lambda: method.quantized_stack(current, goal, "numba"),
-        "one coarse search": lambda: method.coarse(stack16, "numba"),
-        "search, double + fine": lambda: method.search(stack16),
+    stack = method.quantized_stack(current, goal, "numba")
+    searcher = method.searcher(stack, "numba")
+    alphas = np.arange(25)
+    calls = {
+        "home, double + fine": lambda: method.home(current, goal),
+        "stack: distances and 8 bits": lambda: method.quantized_stack(current, goal, "numba"),
+        "two tables and coarse searches": lambda: [
+            method.searcher(stack, "numba").coarse(swap) for swap in (False, True)
+        ],
+        "fine search, 2 x 25 pairs": lambda: [searcher.at(alphas, alphas, s) for s in (0, 1)],
+        "describe, once per view": lambda: method.describe(view),
     }
-    for label, function in parts.items():
-        cpu, wall = cpu_and_wall(function, repeats)
-        print(f"  {label:32s} {cpu * 1e3:8.2f} {wall * 1e3:8.2f} {cpu / floor:8.0f}")
-
-
-def accuracy() -> None:
-    goal_pose = SPEC.pose(*GOAL)
-    others = [(i, j) for i, j in SPEC.to_grid().indices() if (i, j) != GOAL]
-    views = {ij: _view(*ij) for ij in [GOAL, *others]}
-    print(f"AE over {len(others)} pairs, goal {GOAL} of a 10 x 17 grid (288 x 72, seed 0):")
-    print(f"{'setting':28s} {'mean':>6s} {'median':>6s} {'none':>5s} {'CPU ms/pair':>11s}")
-    for label, method in CONFIGS.items():
-        goal = method.describe(views[GOAL])
-        errors, missing, cpu = [], 0, 0.0
-        for ij in others:
-            current = method.describe(views[ij])
-            start = time.process_time()
-            estimate = method.home(current, goal)
-            cpu += time.process_time() - start
-            pose = SPEC.pose(*ij)
-            truth = home_direction((pose.x, pose.y), (goal_pose.x, goal_pose.y), pose.heading)
-            if estimate.angle is None:
-                missing += 1
-            else:
-                errors.append(math.degrees(angular_error(estimate.angle, truth)))
-        print(
-            f"{label:28s} {np.mean(errors):6.2f} {np.median(errors):6.2f} {missing:5d} "
-            f"{cpu / len(others) * 1e3:11.2f}"
-        )
+    print("where a pair's CPU goes (this process):")
+    for label, call in calls.items():
+        cpu, wall = cpu_and_wall(call, 20)
+        print(f"  {label:32s} CPU {1e3 * cpu:6.2f} ms, wall {1e3 * wall:6.2f} ms")
 
 
 def main() -> None:
-    as_in_job_workers()
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=10)
+    parser.add_argument("--rounds", type=int, default=5, help="alternated rounds")
+    parser.add_argument("--pairs", type=int, default=None, help="the first N pairs only")
+    parser.add_argument("--peer", type=Path, help="the peer's driver (see benchmarks/peer.py)")
     parser.add_argument("--cold", action="store_true", help="compile into an empty numba cache")
-    parser.add_argument("--no-ae", action="store_true", help="timing only")
     args = parser.parse_args()
-    print(f"load average at start: {os.getloadavg()}")
-    method = MinWarping()
-    current_view, goal_view = _view(3, 12), _view(*GOAL)
-    current, goal = method.describe(current_view), method.describe(goal_view)
-    _compilecpu_and_wall(current, goal)
-    timing(current, goal, args.repeats)
-    if not args.no_ae:
-        accuracy()
-    print(f"load average at end: {os.getloadavg()}")
+    print(load())
+    import_kernels()
+    positions = peer.currents(args.pairs)
+    described = {ij: MinWarping().describe(peer.views()[ij]) for ij in [peer.GOAL, *positions]}
+    goal, currents = described[peer.GOAL], [described[ij] for ij in positions]
+    worker = peer.JobWorker(MinWarping.preload_modules)
+    driver = peer.Peer(args.peer, positions) if args.peer else None
+    print(f"goal {peer.GOAL} against {len(positions)} positions, 288 x 72, seed 0; {args.rounds} "
+          "alternated rounds; ratios: CPU over the median CPU of the column's figure")  # fmt: skip
+    try:
+        for setting, params in SETTINGS.items():
+            method, make = MinWarping(**params), functools.partial(MinWarping, **params)
+            figures = {
+                "floor": lambda: floor_figure(100),
+                "homebench, this process": peer.homebench_figure(
+                    lambda m=method: peer.method_pass(m, currents, goal)
+                ),
+                "homebench, job worker": peer.homebench_figure(
+                    lambda make=make: worker.method_pass(make, currents, goal)
+                ),
+            }
+            if driver is not None:
+                for kind in ("band", "full"):
+                    figures[f"peer, {kind}"] = functools.partial(
+                        driver.run, "min", bool(params == {}), kind
+                    )
+            print(f"{setting}:")
+            results = peer.alternate(args.rounds, figures)
+            bases = {"/ floor": "floor", "/ peer band": "peer, band", "/ peer full": "peer, full"}
+            peer.report(results, positions, bases)
+    finally:
+        worker.close()
+    parts(currents[0], goal, peer.views()[peer.GOAL])
+    print(load())
 
 
 if __name__ == "__main__":

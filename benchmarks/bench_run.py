@@ -86,7 +86,7 @@ def _floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
     return time.process_time() - start, pairs
 
 
-def _floor_in_worker(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
+def floor_in_worker(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
     """:func:`_floor` in an isolated worker, as the jobs run."""
     import bench_run  # workers import a function by its module's name, not from "__main__"
 
@@ -113,7 +113,7 @@ def _measure(folder: Path, method: str, goals: int) -> tuple[float, int, dict[in
     CPU seconds of fresh runs of it with --jobs 1 and 2."""
     config = run_config(folder / "plan", method, _random_goals(goals))
     plan = make_plan(config, prepare_sources(config, 2), Path("bench"))
-    floor, pairs = _floor_in_worker(plan.home)
+    floor, pairs = floor_in_worker(plan.home)
     runs = {
         n: timed_run(run_config(folder / f"jobs{n}", method, _random_goals(goals)), n)[1:]
         for n in (1, 2)

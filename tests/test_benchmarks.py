@@ -20,13 +20,14 @@ SCRIPTS = {
     "bench_generate.py": ["--grid", "2", "3"],
     "bench_isolation.py": ["--calls", "20"],
     "bench_klt.py": ["--repeats", "1", "--steps", "3"],
-    "bench_min_warping.py": ["--repeats", "1", "--no-ae"],
+    "bench_min_warping.py": ["--rounds", "1", "--pairs", "4"],
     "bench_render.py": ["--poses", "1"],
     "bench_route.py": ["--length", "0.5"],
     "bench_run.py": ["--goals", "1", "--methods", "warping"],
     "bench_sift.py": ["--repeats", "1"],
     "bench_sweep.py": ["--goals", "1"],
     "bench_warping.py": ["--repeats", "1"],
+    "bench_warping_2d.py": ["--rounds", "1", "--pairs", "4"],
 }
 #: Timed hand-overs between processes: wall time per call against the in-process loop, as a
 #: worker's CPU for one hand-over is not separable from the pool's.
