@@ -192,3 +192,23 @@ def test_runs_pooled_in_one_style_that_repeat_a_world_are_refused(tmp_path) -> N
     result = CliRunner().invoke(main, ["findings", *map(str, runs)])
     assert result.exit_code == 2, result.output
     assert "runs a and b both hold" in result.stderr and "give each world once" in result.stderr
+
+
+def test_each_ae_finding_is_tested_with_abstentions_as_90_deg_and_left_out() -> None:
+    """P abstains on 40 % of its pairs under day: left out (the paper's AHC) it 'drops only
+    slightly' while W's AE rises by 20 deg; counted as 90 deg its AE rises by 34 deg."""
+
+    def world(method: str, condition: str, far: bool) -> float:
+        base = {"P": 5.0, "PN": 12.0, "W": 10.0}[method]
+        return base + (20.0 if method == "W" and condition == "original-day" else 0.0)
+
+    pairs, starts = _tables(world, _paper_rr)
+    rng = np.random.default_rng(5)
+    abstains = (pairs["method"] == "P") & (pairs["condition"] == "original-day")
+    pairs.loc[abstains & (rng.random(len(pairs)) < 0.4), "ae"] = np.nan
+    table = findings_table(sift_findings(pairs, starts)).set_index("finding")
+    assert table.loc["day hits W harder (missing left out)", "verdict"] == "holds"
+    assert table.loc["day hits W harder (missing left out)", "missing"] == "left out"
+    assert table.loc["day hits W harder", "verdict"] == "opposite"
+    assert table.loc["day hits W harder", "missing"] == "as 90 deg"
+    assert table.loc["P>W RR original-day", "missing"] == ""  # RR: no missing estimates

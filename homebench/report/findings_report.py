@@ -138,6 +138,7 @@ def findings_view(table: pd.DataFrame, alpha: float = ALPHA) -> TableView:
                 for lo, hi in zip(table["lo"], table["hi"], strict=True)
             ],
             "unit": table["unit"],
+            "no estimate": table["missing"],
             "clusters": table["clusters"],
             "p (Holm)": table["p_holm"],
             "verdict": table["verdict"],
