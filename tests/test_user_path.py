@@ -26,7 +26,7 @@ databases:
   arboreal: {root}/arboreal/manifest.yaml
   day: {root}/day/manifest.yaml
 conditions: [original-original, original-arboreal, original-day]
-goals: [[2, 3], [1, 5], [3, 1]]
+goals: [[2, 3], [1, 5]]
 currents: all
 methods:
   - {{method: sift-unfolded, label: P}}
@@ -86,10 +86,8 @@ def test_every_command_on_a_hand_written_database(databases: Path, tmp_path: Pat
     # reading errs by tens of degrees
     assert summary.loc[("original-original", "min-warping"), "mean_ae_deg"] < 5.0
     assert summary.loc[("original-original", "W"), "mean_ae_deg"] < 15.0
-    written = ok(homebench("report", run, "--format", "pdf", "--format", "md", cwd=tmp_path))
-    assert {run / "report" / name for name in ("report.pdf", "report.md")} <= {
-        Path(line) for line in written.splitlines()
-    }
+    written = ok(homebench("report", run, "--format", "md", cwd=tmp_path))  # the PDF: elsewhere
+    assert run / "report" / "report.md" in {Path(line) for line in written.splitlines()}
     # the report names the databases as the data commands do
     assert f"current: our-room-original ({manifest})" in (run / "report" / "report.md").read_text()
     findings = ok(homebench("findings", run, cwd=tmp_path))
