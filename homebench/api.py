@@ -25,10 +25,11 @@ from typing import TYPE_CHECKING
 
 import pandas as pd
 
+from homebench.analysis.tables import RunTables
 from homebench.config import RunConfig, config_kind, load_config
 from homebench.errors import ConfigError, DataError
 from homebench.evaluation.executors import Execution
-from homebench.evaluation.results import RunTables, build_tables, write_tables
+from homebench.evaluation.results import build_tables, write_tables
 from homebench.evaluation.runner import RunOutcome, run_plan
 from homebench.suggest import unknown
 
@@ -158,7 +159,7 @@ class Tables:
     def comparisons(self) -> pd.DataFrame:
         """Every pair of methods within each condition: differences of mean AE, AHC and RR
         (B - A) with intervals and Holm-adjusted p-values (see
-        :func:`homebench.evaluation.comparisons.comparison_table`); computed on first use."""
+        :func:`homebench.analysis.comparisons.comparison_table`); computed on first use."""
         return self._run.comparisons if not self.pairs.empty else pd.DataFrame()
 
 

@@ -596,7 +596,7 @@ def findings(
 ) -> None:
     """Test the papers' findings on RUN_DIRS: seed 001's on grid runs, seed 000's on route
     runs; each with its effect, 95 % interval, Holm-corrected p and verdict, per style."""
-    from homebench.evaluation.findings import SiftRoles
+    from homebench.analysis.findings import SiftRoles
     from homebench.report.findings_report import findings_of_runs, findings_view
     from homebench.report.tables import to_markdown, write_views
 

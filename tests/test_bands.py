@@ -12,9 +12,10 @@ import pandas as pd
 import pytest
 from test_report_runs import GRID, FakeMethod, write_fake_run
 
+from homebench.analysis.tables import flipped
 from homebench.config import MetricsConfig
 from homebench.errors import ConfigError
-from homebench.evaluation.results import build_tables, flipped
+from homebench.evaluation.results import build_tables
 
 GOALS = ((1, 2), (2, 3))
 

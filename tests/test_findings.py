@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from homebench.evaluation.findings import (
+from homebench.analysis.findings import (
     FAR_RANGE_M,
     findings_table,
     route_findings,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from homebench.evaluation.metrics import (
+from homebench.analysis.metrics import (
     HomeField,
     ae_summary,
     ahc,

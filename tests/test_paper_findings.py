@@ -22,7 +22,7 @@ import pytest
 import yaml
 from conftest import run_config
 
-from homebench.evaluation.findings import ALPHA
+from homebench.analysis.findings import ALPHA
 from homebench.report.findings_report import findings_of_runs
 
 CONFIG = Path(__file__).parent.parent / "configs" / "findings_sift.yaml"

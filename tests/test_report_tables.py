@@ -18,15 +18,10 @@ from test_report_runs import GRID, FakeMethod, write_fake_run
 from test_results_uncertainty import synthetic_pairs
 from test_results_uncertainty import tables as synthetic_tables
 
+from homebench.analysis.comparisons import COLUMNS
+from homebench.analysis.tables import RunTables, method_comparisons
 from homebench.config import MetricsConfig
-from homebench.evaluation.comparisons import COLUMNS
-from homebench.evaluation.results import (
-    ANGLE_COLUMNS,
-    RunTables,
-    build_tables,
-    method_comparisons,
-    write_tables,
-)
+from homebench.evaluation.results import ANGLE_COLUMNS, build_tables, write_tables
 from homebench.report.pages import TABLE_FONT_SIZE, TABLE_ROWS, table_pages
 from homebench.report.run_data import load_run
 from homebench.report.tables import (

@@ -11,16 +11,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from homebench.config import MetricsConfig
-from homebench.evaluation.comparisons import COLUMNS, compare_methods, comparison_table
-from homebench.evaluation.results import (
+from homebench.analysis.comparisons import COLUMNS, compare_methods, comparison_table
+from homebench.analysis.tables import (
     RR_START_COLUMNS,
     RunTables,
     ahc_table,
     goal_tables,
     summary_table,
-    write_tables,
 )
+from homebench.config import MetricsConfig
+from homebench.evaluation.results import write_tables
 from homebench.geometry import Grid, angular_error, world_direction
 
 GRID = Grid((4, 5), 0.3, (-0.45, -0.6))

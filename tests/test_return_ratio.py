@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from homebench.evaluation.metrics import HomeField
-from homebench.evaluation.return_ratio import catchment, return_ratio
+from homebench.analysis.metrics import HomeField
+from homebench.analysis.return_ratio import catchment, return_ratio
 from homebench.geometry import Grid
 
 GRID = Grid((10, 17), 0.3, origin=(-1.0, 0.5))

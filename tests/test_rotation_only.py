@@ -13,9 +13,10 @@ from click.testing import CliRunner
 from conftest import arena_config, run_config
 from test_report_runs import FakeMethod, write_fake_run
 
+from homebench.analysis.tables import DIRECTION_COLUMNS
 from homebench.cli import main
 from homebench.config import MetricsConfig
-from homebench.evaluation.results import DIRECTION_COLUMNS, build_tables
+from homebench.evaluation.results import build_tables
 
 
 def test_a_compass_has_no_direction_metric_and_keeps_its_rotation_error(tmp_path: Path) -> None:

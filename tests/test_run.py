@@ -86,7 +86,8 @@ def test_a_run_reads_its_results_and_compares_its_methods_once(
 ) -> None:
     """The tables, the printed summary and the report share one reading of the job files and
     one set of paired comparisons (each took a quick start's main process 0.1-0.3 s)."""
-    from homebench.evaluation import comparisons, results
+    from homebench.analysis import comparisons
+    from homebench.evaluation import results
 
     calls = {"load_pairs": 0, "comparison_table": 0}
 

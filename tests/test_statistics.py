@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from homebench.evaluation.metrics import ae_summary, ahc
-from homebench.evaluation.statistics import (
+from homebench.analysis.metrics import ae_summary, ahc
+from homebench.analysis.statistics import (
     EXACT_SIGN_FLIP_GOALS,
     GoalResampler,
     ahc_interval,

@@ -30,10 +30,10 @@ import cv2
 import numpy as np
 import orjson
 
+from homebench.analysis.metrics import angular_errors
 from homebench.errors import DataError, WriteError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
 from homebench.evaluation.grid_routes import method_route
-from homebench.evaluation.metrics import angular_errors
 from homebench.evaluation.plan import (
     DescribeJob,
     HomeJob,

@@ -8,14 +8,14 @@ counts once), and the describe and home times, whose change is the ratio run / r
 (no test).
 
 ``test`` says how the cell was compared. **paired** when the runs share pairs, measured on the
-same databases (:mod:`homebench.evaluation.worlds`: the same grid position of another world is
+same databases (:mod:`homebench.analysis.worlds`: the same grid position of another world is
 another pair): their pairs
 (return-ratio starts) are matched on goal and current (start) position, as
-:mod:`homebench.evaluation.comparisons` matches two methods, and the matched ones compared with
+:mod:`homebench.analysis.comparisons` matches two methods, and the matched ones compared with
 its paired goal bootstrap and sign-flip test; pairs of one run only (a missing job, a failed
 pair, other goals) are left out, and a warning says so. **unpaired** when they share none: an
 independent goal bootstrap of each run and a goal permutation test
-(:mod:`homebench.evaluation.unpaired`); a warning says when that is because their databases
+(:mod:`homebench.analysis.unpaired`); a warning says when that is because their databases
 differ. A method that gives no home direction has only its time ratios. A pair without an
 estimate counts as 90 deg, as in the method comparisons, so a method that stops answering
 shows; values are on the compared pairs and may differ from the summary's (mean AE over pairs
@@ -38,8 +38,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from homebench.errors import ConfigError
-from homebench.evaluation.comparisons import (
+from homebench.analysis.comparisons import (
     EMPTY_CELL,
     PAIR_POSITION,
     START_POSITION,
@@ -49,10 +48,11 @@ from homebench.evaluation.comparisons import (
     keyed_cells,
     matched,
 )
-from homebench.evaluation.metrics import Missing, with_missing
-from homebench.evaluation.statistics import N_BOOT, Interval
-from homebench.evaluation.unpaired import unpaired_means
-from homebench.evaluation.worlds import world_keys, world_label
+from homebench.analysis.metrics import Missing, with_missing
+from homebench.analysis.statistics import N_BOOT, Interval
+from homebench.analysis.unpaired import unpaired_means
+from homebench.analysis.worlds import world_keys, world_label
+from homebench.errors import ConfigError
 from homebench.fileio import write_text_atomic
 from homebench.hashing import derived_seed
 from homebench.report.run_data import RunData

@@ -1,15 +1,15 @@
 """What the report's numbers mean: the metrics and the statistics, as the report's definitions
 page (PDF) and section (HTML, Markdown) state them.
 
-The text restates the docstrings of :mod:`homebench.evaluation.metrics`,
-:mod:`~homebench.evaluation.return_ratio`, :mod:`~homebench.evaluation.statistics` and
-:mod:`~homebench.evaluation.comparisons`; the run's own settings (bins, RR step, radius) are on
+The text restates the docstrings of :mod:`homebench.analysis.metrics`,
+:mod:`~homebench.analysis.return_ratio`, :mod:`~homebench.analysis.statistics` and
+:mod:`~homebench.analysis.comparisons`; the run's own settings (bins, RR step, radius) are on
 the title page.
 """
 
 from __future__ import annotations
 
-from homebench.evaluation.statistics import (
+from homebench.analysis.statistics import (
     EXACT_SIGN_FLIP_GOALS,
     LEVEL,
     N_BOOT,

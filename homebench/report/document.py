@@ -26,8 +26,8 @@ from matplotlib.figure import Figure
 from tqdm import tqdm
 
 from homebench import __version__
+from homebench.analysis.tables import RunTables
 from homebench.errors import DataError
-from homebench.evaluation.results import RunTables
 from homebench.fileio import atomic_write, write_text_atomic
 from homebench.report import DEFAULT_MAX_GOALS, reuse
 from homebench.report.appendix import Appendix, run_appendix

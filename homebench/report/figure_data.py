@@ -11,10 +11,10 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from homebench.analysis.metrics import HomeField
+from homebench.analysis.return_ratio import return_ratio
+from homebench.analysis.tables import goal_fields
 from homebench.config import MetricsConfig
-from homebench.evaluation.metrics import HomeField
-from homebench.evaluation.results import goal_fields
-from homebench.evaluation.return_ratio import return_ratio
 from homebench.geometry import FloatArray
 
 BoolArray = NDArray[np.bool_]

@@ -15,8 +15,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from homebench.errors import DataError
-from homebench.evaluation.findings import (
+from homebench.analysis.findings import (
     ALPHA,
     PAPER_ROLES,
     SiftRoles,
@@ -24,7 +23,8 @@ from homebench.evaluation.findings import (
     route_findings,
     sift_findings,
 )
-from homebench.evaluation.results import world_codes
+from homebench.analysis.tables import world_codes
+from homebench.errors import DataError
 from homebench.experiments.route.config import KLT_SECTOR
 from homebench.report.route_report import load_route_run
 from homebench.report.run_data import grid_run, read_run_info
@@ -100,7 +100,7 @@ def _route_table(run_dirs: Sequence[Path]) -> pd.DataFrame:
 def findings_of_runs(
     run_dirs: Sequence[Path], roles: SiftRoles = PAPER_ROLES, alpha: float = ALPHA
 ) -> pd.DataFrame:
-    """The findings table (:func:`~homebench.evaluation.findings.findings_table`) of run
+    """The findings table (:func:`~homebench.analysis.findings.findings_table`) of run
     folders, all grid runs or all route runs."""
     kinds = {read_run_info(run_dir).kind for run_dir in run_dirs}
     if len(kinds) > 1:

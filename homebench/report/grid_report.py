@@ -15,7 +15,7 @@ from collections.abc import Iterator, Sequence
 import pandas as pd
 from matplotlib.figure import Figure
 
-from homebench.evaluation.results import gives_directions
+from homebench.analysis.tables import gives_directions
 from homebench.report.figure_data import (
     condition_goals,
     goal_panels,

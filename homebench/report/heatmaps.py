@@ -2,7 +2,7 @@
 written in it.
 
 A run over many conditions (or styles) would fill hundreds of pages with per-condition
-figures; these maps show its summary table (:func:`homebench.evaluation.results.summary_table`)
+figures; these maps show its summary table (:func:`homebench.analysis.tables.summary_table`)
 on a page per metric instead. Colour scales are fixed, so maps of different runs compare by
 eye: AHC -1 to 1 (its whole range: 0 is a mean AE of 90 deg), RR 0 to 1, mean AE 0 to 100 deg
 (larger errors take the end colour). The colour of a better value is the same in every map.

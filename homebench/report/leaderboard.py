@@ -2,7 +2,7 @@
 
 Rows are method labels (in label order), columns conditions (``style/condition`` in a style
 sweep) of one world: where runs hold a condition of the same name on other databases, each
-world gets its own column, ``condition @ world`` (:mod:`homebench.evaluation.worlds`). Each cell
+world gets its own column, ``condition @ world`` (:mod:`homebench.analysis.worlds`). Each cell
 is ``estimate [lo, hi]`` from its run's summary table (the 95 % goal-bootstrap interval), ``--``
 where there is none (a method that gives no home direction has no direction metric). A method
 label found in several runs becomes one row per run, ``run: label``, when its method or
@@ -24,8 +24,8 @@ from pathlib import Path
 import pandas as pd
 from pydantic import ValidationError
 
+from homebench.analysis.worlds import world_keys, world_label
 from homebench.config import MethodEntry
-from homebench.evaluation.worlds import world_keys, world_label
 from homebench.fileio import write_text_atomic
 from homebench.report.compare import METRICS
 from homebench.report.run_data import CONFIG_FILE, RunData, validation_error

@@ -161,7 +161,7 @@ def ahc_figure(
     """AHC per distance bin, one panel per condition, one line per method with its 95 % CI
     band (``ahc_lo`` to ``ahc_hi``); the pairs per bin (``n``) along the top axis.
 
-    ``panels``: rows of :func:`homebench.evaluation.results.ahc_table` each; ``limits``: the
+    ``panels``: rows of :func:`homebench.analysis.tables.ahc_table` each; ``limits``: the
     y-range of every panel (:func:`ahc_range` of the whole run).
     """
     fig, axes, outer = _condition_figure(len(panels), CONDITION_COLUMNS, sharex=False)

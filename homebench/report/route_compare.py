@@ -3,7 +3,7 @@
 Every method of a route run homes on the same trials (the same outbound drive and noise), and
 the odometry baseline is one more "method" on them. **The trial is the unit of replication**:
 trials have their own motion noise and are independent, so intervals resample trials
-(:class:`~homebench.evaluation.statistics.GoalResampler` with one cluster per trial, the
+(:class:`~homebench.analysis.statistics.GoalResampler` with one cluster per trial, the
 expanded percentile interval) and the paired tests take one difference per trial: the
 sign-flip test over trials (exact up to 16 trials), Wilcoxon's signed rank test and McNemar's
 exact test on success, all on the trials both methods finished; Holm's adjustment runs over
@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from homebench.evaluation.statistics import (
+from homebench.analysis.statistics import (
     GoalResampler,
     holm,
     mcnemar_exact,

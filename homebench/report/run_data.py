@@ -9,10 +9,11 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from homebench.analysis.tables import RunTables
 from homebench.config import MetricsConfig, kind_of
 from homebench.data.naming import database_label
 from homebench.errors import DataError
-from homebench.evaluation.results import RunTables, build_tables
+from homebench.evaluation.results import build_tables
 from homebench.fileio import parse_json, read_record_text
 
 CONFIG_FILE = "config.resolved.json"

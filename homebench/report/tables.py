@@ -28,8 +28,8 @@ import numpy as np
 import pandas as pd
 from pydantic import ValidationError
 
+from homebench.analysis.tables import RunTables
 from homebench.config import MethodEntry
-from homebench.evaluation.results import RunTables
 from homebench.fileio import write_text_atomic
 from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
 
@@ -276,7 +276,7 @@ SUMMARY_COLUMNS = {
 #: reports rotations).
 OPTIONAL = ("rotation_error_deg",)
 #: Summary columns marked where a method is significantly best: source column -> (metric of
-#: :func:`~homebench.evaluation.comparisons.comparison_table`, whether lower is better).
+#: :func:`~homebench.analysis.comparisons.comparison_table`, whether lower is better).
 MARKED = {
     "mean_ae_deg": ("mean_ae_deg", True),
     "ahc": ("ahc", False),
@@ -420,7 +420,7 @@ def summary_view(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFra
     """Method x condition summary (per swept style) in ``order``: goals, pairs, share without
     estimate, AE, AHC (the paper's and with a missing estimate as 90 deg), RR, catchment,
     times; each metric with its interval; significantly best cells (``comparisons``: the
-    run's :func:`~homebench.evaluation.results.method_comparisons`) marked."""
+    run's :func:`~homebench.analysis.tables.method_comparisons`) marked."""
     headers = {source: header for source, (header, _, _) in SUMMARY_COLUMNS.items()}
     title = "Summary per condition and method: estimate [95 % interval]"
     return _summary_columns("summary", title, summary, order, comparisons, headers, None,
@@ -499,7 +499,7 @@ def _oriented(comparisons: pd.DataFrame, order: RowOrder) -> pd.DataFrame:
 
 def comparisons_view(comparisons: pd.DataFrame, order: RowOrder) -> TableView:
     """The paired comparisons of the methods per condition (``comparisons``: the run's
-    :func:`~homebench.evaluation.results.method_comparisons`), in ``order``: B - A with its
+    :func:`~homebench.analysis.tables.method_comparisons`), in ``order``: B - A with its
     interval and both Holm-adjusted p-values."""
     oriented = _oriented(comparisons, order)
     ranks = order.method_ranks([*oriented["method_a"], *oriented["method_b"]])

@@ -2,12 +2,12 @@
 
 - ``trials.csv``: one row per trial (the per-start outcomes export).
 - ``summary.csv``: per style and method: success rate with a 95 % goal-bootstrap interval
-  (:mod:`homebench.evaluation.statistics`; the cluster is the goal when there are several
+  (:mod:`homebench.analysis.statistics`; the cluster is the goal when there are several
   goals, else the start), median final distance, mean path ratio of the successful trials,
   mean steps, the share of steps without an estimate, seconds per step, and the catchment area.
 - ``catchment.csv``: per style, method and goal: the catchment area in m^2, the floor's
   share of starts each stands for (cells x cell area), and the free floor the starts cover.
-- ``paired.csv``: McNemar's exact test (:func:`~homebench.evaluation.statistics.mcnemar_exact`)
+- ``paired.csv``: McNemar's exact test (:func:`~homebench.analysis.statistics.mcnemar_exact`)
   of every pair of methods on success from the same starts, per style, Holm-adjusted.
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from homebench.evaluation.statistics import GoalResampler, holm, mcnemar_exact, mean_interval
+from homebench.analysis.statistics import GoalResampler, holm, mcnemar_exact, mean_interval
 from homebench.experiments.closed_loop.config import ClosedLoopConfig
 from homebench.fileio import write_text_atomic
 

@@ -50,8 +50,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import special
 
+from homebench.analysis.metrics import Missing, with_missing
 from homebench.config import AhcDefinition
-from homebench.evaluation.metrics import Missing, with_missing
 from homebench.geometry import FloatArray
 
 LEVEL = 0.95
@@ -244,7 +244,7 @@ def ahc_intervals(
 ) -> list[Interval]:
     """The AHC of each group of pairs with its interval: seed 001's eq. 12, cos(mean AE) and
     the cos of the mean-AE interval (``definition="cos_mean_ae"``), or the mean of cos(AE) and
-    its interval (``"mean_cos"``; see :data:`~homebench.evaluation.metrics.AhcDefinition`).
+    its interval (``"mean_cos"``; see :data:`~homebench.analysis.metrics.AhcDefinition`).
     ``ae``: (n_pairs,) radians, NaN = no estimate, handled per ``missing``; ``groups`` as in
     :func:`mean_intervals`."""
     counted = with_missing(ae, missing)

@@ -4,7 +4,7 @@ Input: the run's ``pairs`` and ``rr_starts`` tables (:mod:`homebench.evaluation.
 Two methods' pairs are matched on their goal (seed, goal_i, goal_j) and current position,
 their return-ratio starts on the goal and the start; only matched pairs are compared (a pair
 that failed in either method is not). The tests are those of
-:mod:`homebench.evaluation.statistics`: a goal-level paired bootstrap interval and sign-flip
+:mod:`homebench.analysis.statistics`: a goal-level paired bootstrap interval and sign-flip
 p-value (use these for findings) beside a per-pair Wilcoxon or McNemar p-value that ignores
 the clustering of pairs by goal. Differences are always B - A.
 """
@@ -17,10 +17,8 @@ from itertools import combinations
 import numpy as np
 import pandas as pd
 
-from homebench.config import AhcDefinition
-from homebench.evaluation.metrics import Missing
-from homebench.evaluation.results import gives_directions, goal_labels
-from homebench.evaluation.statistics import (
+from homebench.analysis.metrics import Missing
+from homebench.analysis.statistics import (
     LEVEL,
     N_BOOT,
     AeComparison,
@@ -31,6 +29,8 @@ from homebench.evaluation.statistics import (
     holm,
     row_codes,
 )
+from homebench.analysis.tables import gives_directions, goal_labels
+from homebench.config import AhcDefinition
 from homebench.hashing import derived_seed
 
 #: Columns of :func:`comparison_table`.
@@ -137,7 +137,7 @@ def compare_methods(
     """Compare method ``b`` with method ``a`` (labels) under ``condition``.
 
     ``missing``: how a pair without an estimate in either method is compared (see
-    :func:`~homebench.evaluation.statistics.compare_ae`); ``definition``: the AHC's. The seed
+    :func:`~homebench.analysis.statistics.compare_ae`); ``definition``: the AHC's. The seed
     of the resamples and sign flips is derived from (condition, a, b): the same tables give
     the same numbers.
     """

@@ -1,8 +1,8 @@
 """Unpaired comparison of two sets of pairs (two runs on different goals): goal level.
 
-The paired tests of :mod:`homebench.evaluation.statistics` need the same pairs in both sets.
+The paired tests of :mod:`homebench.analysis.statistics` need the same pairs in both sets.
 When the goals differ, each set's goals are resampled on their own (two independent goal
-bootstraps, :class:`~homebench.evaluation.statistics.GoalResampler`) and the interval of the
+bootstraps, :class:`~homebench.analysis.statistics.GoalResampler`) and the interval of the
 difference B - A is taken over the differences of the resampled metrics; it is expanded for the
 smaller set's number of goals. The p-value is a goal permutation test: under the null both
 sets' goals come from one population, so the goals are dealt to A and B anew (all ways up to
@@ -20,7 +20,7 @@ from math import comb
 import numpy as np
 from numpy.typing import ArrayLike
 
-from homebench.evaluation.statistics import LEVEL, N_BOOT, GoalResampler, Interval, Replicates
+from homebench.analysis.statistics import LEVEL, N_BOOT, GoalResampler, Interval, Replicates
 from homebench.geometry import FloatArray
 from homebench.hashing import derived_seed
 

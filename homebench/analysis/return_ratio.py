@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from homebench.evaluation.metrics import BoolArray, HomeField
+from homebench.analysis.metrics import BoolArray, HomeField
 from homebench.geometry import FloatArray, Grid, world_direction
 
 # 8-neighbour offsets (di, dj) by octant k: the world direction k * pi/4 (i along x, j along y).

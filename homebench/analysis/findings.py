@@ -3,7 +3,7 @@
 A claim is directional: it names an **effect** whose mean is positive when the claim holds
 (e.g. "P errs less than W": W's AE minus P's, per pair). The effect's mean gets a goal-bootstrap
 interval and a two-sided goal-level p-value (the exact or Monte Carlo sign-flip test of
-:mod:`homebench.evaluation.statistics`), Holm-corrected over the claims of one place (a world
+:mod:`homebench.analysis.statistics`), Holm-corrected over the claims of one place (a world
 style, or the whole run). The verdict at level ``alpha``:
 
 - **holds**: the corrected p-value is below ``alpha`` and the effect is positive;
@@ -39,9 +39,8 @@ from typing import Literal
 import numpy as np
 import pandas as pd
 
-from homebench.evaluation.metrics import Missing, with_missing
-from homebench.evaluation.results import world_codes
-from homebench.evaluation.statistics import (
+from homebench.analysis.metrics import Missing, with_missing
+from homebench.analysis.statistics import (
     LEVEL,
     N_BOOT,
     GoalResampler,
@@ -50,6 +49,7 @@ from homebench.evaluation.statistics import (
     holm,
     sign_flip_test,
 )
+from homebench.analysis.tables import world_codes
 from homebench.hashing import derived_seed
 
 Verdict = Literal["holds", "opposite", "not significant", "inconclusive"]
@@ -384,7 +384,7 @@ def _judge(tested: list[_Tested], place: str, alpha: float) -> list[Finding]:
 
 def with_places(frame: pd.DataFrame) -> pd.DataFrame:
     """``frame`` with the columns ``world`` (int) and ``place`` (str) where it has none: the
-    swept world (:func:`~homebench.evaluation.results.world_codes`) and its style, "all"
+    swept world (:func:`~homebench.analysis.tables.world_codes`) and its style, "all"
     without a style."""
     if "world" not in frame.columns:
         frame = frame.assign(world=world_codes(frame))
