@@ -91,14 +91,15 @@ LIGHTS_ON = Lighting(110.0, 230.0, 0.0, 0.0, 600.0, 0.0, False)
 
 
 def indoor_lightings(
-    day: Lighting, twilight: Lighting, winlit: Lighting
+    day: Lighting, twilight: Lighting, winlit: Lighting, lights_on: Lighting = LIGHTS_ON
 ) -> dict[Variant, Lighting]:
-    """An indoor style's lighting per variant: the luminaires on for ``original`` and the
-    object variants (they change what is there, not the light), and the three daylight ones."""
+    """An indoor style's lighting per variant: ``lights_on`` (the luminaires on) for
+    ``original`` and the object variants (they change what is there, not the light), and the
+    three daylight ones."""
     return {
-        "original": LIGHTS_ON,
-        "arboreal": LIGHTS_ON,
-        "chairs": LIGHTS_ON,
+        "original": lights_on,
+        "arboreal": lights_on,
+        "chairs": lights_on,
         "day": day,
         "twilight": twilight,
         "winlit": winlit,

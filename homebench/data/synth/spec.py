@@ -23,8 +23,11 @@ RENDERER_VERSION = 2
 
 Variant = Literal["original", "arboreal", "chairs", "day", "twilight", "winlit"]
 VARIANTS: tuple[Variant, ...] = ("original", "arboreal", "chairs", "day", "twilight", "winlit")
-Style = Literal["posters", "lab", "corridor", "outdoor"]
-STYLES: tuple[Style, ...] = ("posters", "lab", "corridor", "outdoor")
+Style = Literal["posters", "lab", "corridor", "outdoor", "arena"]
+STYLES: tuple[Style, ...] = ("posters", "lab", "corridor", "outdoor", "arena")
+#: What a world's images show: ``photo``, the lit scene through the camera; ``landmarks``, its
+#: ground-truth landmarks (every object black on a white room, no light, no camera).
+Render = Literal["photo", "landmarks"]
 
 
 class _Frozen(BaseModel):
@@ -62,6 +65,7 @@ STYLE_ROOMS: dict[Style, RoomSpec] = {
     "lab": RoomSpec(width=6.6, depth=9.0, height=3.0),
     "corridor": RoomSpec(width=3.6, depth=16.0, height=2.7),
     "outdoor": RoomSpec(width=400.0, depth=400.0, height=150.0),
+    "arena": RoomSpec(width=7.0, depth=9.0, height=3.0),
 }
 
 
@@ -133,6 +137,8 @@ class WorldSpec(_Frozen):
 
     ``room`` None takes the style's room (:data:`STYLE_ROOMS`). ``light_gain`` multiplies all
     scene radiance (a pure global change of the light, for testing the camera's exposure).
+    ``render`` ``landmarks`` renders the world's ground-truth landmarks instead of photographs
+    (:data:`Render`); it enters the key only when set, so photo worlds keep their keys.
     """
 
     seed: int = Field(0, ge=0)
@@ -146,6 +152,7 @@ class WorldSpec(_Frozen):
     unfolded: UnfoldedImageSpec = UnfoldedImageSpec()
     camera: CameraSpec = CameraSpec()
     light_gain: float = Field(1.0, gt=0)
+    render: Render = "photo"
 
     @model_validator(mode="after")
     def _grid_fits_room(self) -> WorldSpec:
@@ -175,7 +182,8 @@ class WorldSpec(_Frozen):
         return self.to_grid().pose(i, j, math.radians(self.heading_deg))
 
     def canonical_json(self) -> str:
-        return json.dumps(self.model_dump(mode="json"), sort_keys=True, separators=(",", ":"))
+        data = self.model_dump(mode="json", exclude={"render"} if self.render == "photo" else None)
+        return json.dumps(data, sort_keys=True, separators=(",", ":"))
 
     def key(self) -> str:
         """Stable 16-hex-digit hash of the spec and the renderer version."""

@@ -11,7 +11,8 @@ by (noise seed, image kind) and never by the variant. With a fixed exposure, pix
 added object does not touch (nor, under an open sky with sun, shade) are therefore
 bit-identical between variants; with auto-exposure
 (the default) an added object changes the metered light, hence every pixel slightly, as in a
-real camera.
+real camera. A spec's ``render: landmarks`` gives its ground-truth landmark images instead
+(:meth:`World.render_landmarks`: objects black on a white room, no light, no camera).
 """
 
 from __future__ import annotations
@@ -44,6 +45,8 @@ SUPERSAMPLE = 4
 RAW_SUPERSAMPLE = 2
 #: Closest a camera may come to a wall or an object, metres.
 MIN_CLEARANCE = 0.02
+#: Grey levels of the ground-truth landmark images (``render: landmarks``): objects, room.
+LANDMARK_GREYS = (0, 255)
 _KIND_STREAM = {"raw": 0, "unfolded": 1}
 _CACHE_SIZE = 6
 _worlds: OrderedDict[str, World] = OrderedDict()
@@ -174,7 +177,10 @@ class World:
 
     def render(self, pose: Pose, noise_seed: int | None) -> dict[str, NDArray[np.uint8]]:
         """Grey images of ``pose``: "raw" (raw.height, raw.width) and "unfolded"
-        (unfolded.height, unfolded.width). ``noise_seed=None`` renders without sensor noise."""
+        (unfolded.height, unfolded.width). ``noise_seed=None`` renders without sensor noise.
+        The spec's ``render: landmarks`` gives :meth:`render_landmarks` instead."""
+        if self.spec.render == "landmarks":
+            return self.render_landmarks(pose)
         seen, exposure = self.capture(pose)
         camera = self.camera
         return {
@@ -189,6 +195,22 @@ class World:
                 self.downsample(seen), exposure, noise_seed, _KIND_STREAM["unfolded"]
             ),
         }
+
+    def render_landmarks(self, pose: Pose) -> dict[str, NDArray[np.uint8]]:
+        """The ground-truth landmark images of ``pose``, same keys and shapes as :meth:`render`:
+        black (:data:`LANDMARK_GREYS`) every pixel that sees an object (:meth:`render_labels`:
+        label > 0, the frontmost of its cast samples, so that a thin or far object keeps its
+        pixels), white the room (walls, floor, ceiling); a raw image is black outside its
+        annulus. No light and no camera (exposure, blur, noise, response): the ideal sensor of
+        a control, and two grey levels only, so that any threshold between them segments it
+        alike."""
+        dark, bright = LANDMARK_GREYS
+        images = {
+            kind: np.where(labels > 0, dark, bright).astype(np.uint8)
+            for kind, labels in self.render_labels(pose).items()
+        }
+        images["raw"][~self._annulus] = 0
+        return images
 
     def render_labels(self, pose: Pose) -> dict[str, NDArray[np.int32]]:
         """Object id seen at each pixel (0 = room surfaces); same keys and shapes as

@@ -15,7 +15,7 @@ from types import ModuleType
 from homebench.data.synth.lighting import Lighting
 from homebench.data.synth.scene import Room, Scene
 from homebench.data.synth.spec import Style, Variant
-from homebench.data.synth.styles import corridor, lab, outdoor, posters
+from homebench.data.synth.styles import arena, corridor, lab, outdoor, posters
 from homebench.geometry import Grid
 
 
@@ -39,6 +39,7 @@ STYLES: dict[Style, StyleDefinition] = {
     "lab": _definition("lab", lab),
     "corridor": _definition("corridor", corridor),
     "outdoor": _definition("outdoor", outdoor),
+    "arena": _definition("arena", arena),
 }
 
 
