@@ -1,13 +1,14 @@
 """Average landmark vector: symmetric scenes, rotation, degenerate inputs, the arena.
 
-Arena tolerance: the wall texture thresholded at its mean gives about seven dark sectors; a
-sector that splits, merges or vanishes between the views moves the ALV by about 1/7, while the
-lattice displacements (0.3-0.85 m in a 3 m arena) move it by only about 0.05-0.15, so a few
-places are off by tens of degrees (the method's known weakness in cluttered scenes), and the
-engine's visual compass (``compass: visual``, tests/compass_views.py) turns the current view
-back by its parallax error (up to 12.5 deg here, see test_visual_compass). Measured on the 5 x 5
-lattice: mean 21.4 deg with the visual compass (17.2 deg on aligned views without it); the test
-allows 25 and 20.
+Arena tolerance: the arena's grey wall texture (not the papers' black and white) thresholded
+by Otsu's rule gives five dark sectors; a sector that splits, merges or vanishes between the
+views moves the ALV by about 1/5, while the lattice displacements (0.3-0.85 m in a 3 m arena)
+move it by only about 0.05-0.15, so a few places are off by tens of degrees (the method's known
+weakness in cluttered scenes), and the engine's visual compass (``compass: visual``,
+tests/compass_views.py) turns the current view back by its parallax error (up to 12.5 deg here,
+see test_visual_compass). Measured on the 5 x 5 lattice: mean 25.7 deg with the visual compass
+(22.7 deg on aligned views without it; with the mean threshold, seven sectors, 21.4 and 17.2);
+the test allows 29 and 26. The papers' scene is tests/test_validation_alv.py.
 """
 
 from __future__ import annotations
@@ -91,7 +92,7 @@ def test_a_textureless_view_gives_no_estimate():
         assert estimate.angle is None and estimate.rotation is None
 
 
-@pytest.mark.parametrize(("compass", "tolerance_deg"), [("visual", 25.0), ("none", 20.0)])
+@pytest.mark.parametrize(("compass", "tolerance_deg"), [("visual", 29.0), ("none", 26.0)])
 def test_arena_lattice(compass, tolerance_deg):
     method = registry.create("alv")
     method = WithVisualCompass(method) if compass == "visual" else method
@@ -120,5 +121,5 @@ def test_an_asymmetric_scene_points_roughly_home():
 def test_registered_with_the_papers_defaults():
     method = registry.create("alv")
     assert isinstance(method, AverageLandmarkVector)
-    assert (method.landmarks, method.threshold) == ("dark", "mean")
+    assert (method.landmarks, method.threshold) == ("dark", "otsu")
     assert CROSS.shape == (4, 2)

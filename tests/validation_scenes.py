@@ -16,12 +16,20 @@ scene each method's paper tested it on, built analytically so that the truth is 
   step is MFDID's matched filter to first order.
 - **Neighbour views** (:func:`neighbours`, :func:`neighbour_error`): the views a few cm from a
   place that DID fits its gradient over, as the engine hands them from a grid database.
+- **The landmark arena** (:func:`landmark_arena`): the landmark-homing papers' scene, black
+  cylinders on a bright wall, as a generated world (style ``arena``: walls lit 2:1 unevenly by
+  four lamps), photographed through the camera at every position of a 5 x 5 grid, beside its
+  ground-truth control (``render: landmarks``: the same world's objects black on white, no
+  light, no camera). :func:`pair_angles` and :func:`pair_truths` give every ordered pair's
+  estimate and true home direction, :func:`landmark_scores` a method's scores on both.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -30,8 +38,10 @@ import synthetic_panorama
 from numpy.typing import NDArray
 from synthetic_panorama import home_errors, render
 
+from homebench.data.synth.spec import GridSpec, RawImageSpec, UnfoldedImageSpec, WorldSpec
+from homebench.data.synth.world import build_world, render_position
 from homebench.geometry import Pose, angular_error, home_direction, world_to_robot_xy
-from homebench.methods.base import HomingMethod
+from homebench.methods.base import HomingMethod, View
 
 FloatArray = NDArray[np.float64]
 Texture = Callable[[FloatArray, FloatArray], FloatArray]
@@ -136,3 +146,88 @@ def equal_distance_signals(
     current position)."""
     cx, cy = rho * math.cos(alpha), rho * math.sin(alpha)
     return ring_signal(cx, cy, psi, n), ring_signal(0.0, 0.0, 0.0, n), (cx, cy)
+
+
+@dataclass(frozen=True)
+class LandmarkArena:
+    """A landmark arena's views at every grid position (n of them): ``photo`` through the
+    camera and ``control`` its ground-truth landmarks, taken at ``poses``; ``centres`` (m, 2)
+    of its cylinders, metres."""
+
+    poses: list[Pose]
+    photo: list[View]
+    control: list[View]
+    centres: FloatArray
+
+
+@lru_cache(maxsize=3)
+def landmark_arena(seed: int = 0) -> LandmarkArena:
+    """The arena of world ``seed`` (style ``arena``, variant ``original``): a 5 x 5 grid 0.3 m
+    apart, unfolded images 180 columns wide (2 deg per pixel), small raw images."""
+    spec = WorldSpec(
+        style="arena",
+        seed=seed,
+        grid=GridSpec(shape=(5, 5), spacing=0.3),
+        raw=RawImageSpec(width=200, height=150, inner_radius=8, outer_radius=70),
+        unfolded=UnfoldedImageSpec(width=180),
+    )
+    control = WorldSpec.model_validate({**spec.model_dump(), "render": "landmarks"})
+    geometry, indices = spec.unfolded.geometry(), list(spec.to_grid().indices())
+    cylinders = build_world(spec).scene.objects
+    return LandmarkArena(
+        [spec.pose(i, j) for i, j in indices],
+        [View(render_position(spec, i, j)["unfolded"], geometry) for i, j in indices],
+        [View(render_position(control, i, j)["unfolded"], geometry) for i, j in indices],
+        np.array([c.centre for c in cylinders]),
+    )
+
+
+def pair_angles(method: HomingMethod, views: list[View]) -> FloatArray:
+    """Home directions (radians; NaN: no estimate) of ``method`` for every ordered pair of
+    ``views`` (goal k, current l != k; goals outermost), shape (n * (n - 1),)."""
+    features = [method.describe(view) for view in views]
+    angles = []
+    for k, goal in enumerate(features):
+        for current in features[:k] + features[k + 1 :]:
+            angle = method.home(current, goal).angle
+            angles.append(math.nan if angle is None else angle)
+    return np.array(angles)
+
+
+def pair_truths(poses: list[Pose]) -> FloatArray:
+    """True home directions (radians, current robot frame) of the pairs of :func:`pair_angles`."""
+    return np.array(
+        [
+            home_direction(current.xy, goal.xy, current.heading)
+            for k, goal in enumerate(poses)
+            for current in poses[:k] + poses[k + 1 :]
+        ]
+    )
+
+
+def pair_errors(angles: FloatArray, truths: FloatArray) -> FloatArray:
+    """Angular differences (degrees, same shape) of two sets of directions; NaN (no estimate)
+    counts as 180 deg."""
+    error = np.asarray(angular_error(np.nan_to_num(angles, nan=0.0), truths), dtype=np.float64)
+    return np.degrees(np.where(np.isnan(angles) | np.isnan(truths), math.pi, error))
+
+
+def landmark_scores(
+    method: HomingMethod, control: HomingMethod, seeds: Sequence[int] = (0, 1, 2)
+) -> dict[str, float]:
+    """``method`` on the photographs of the landmark arenas of ``seeds``, pooled over their pairs:
+    AHC, the share of pairs off by more than 45 deg, the mean difference (deg) of its estimates
+    from ``control``'s on the ground-truth control, and that control's AHC."""
+    arenas: list[LandmarkArena] = [landmark_arena(seed) for seed in seeds]
+    photo = [pair_angles(method, arena.photo) for arena in arenas]
+    truth = [pair_angles(control, arena.control) for arena in arenas]
+    directions = [pair_truths(arena.poses) for arena in arenas]
+    errors = np.concatenate([pair_errors(a, d) for a, d in zip(photo, directions, strict=True)])
+    ideal = np.concatenate([pair_errors(a, d) for a, d in zip(truth, directions, strict=True)])
+    deviation = np.concatenate([pair_errors(a, t) for a, t in zip(photo, truth, strict=True)])
+    return {
+        "ahc": ahc(errors),
+        "gross": float(np.mean(errors > 45.0)),
+        "deviation": float(np.mean(deviation)),
+        "control_ahc": ahc(ideal),
+    }

@@ -12,10 +12,19 @@ Here both vectors are expressed in the current robot frame, which the papers' ex
 compass aligns with the goal's: a grid database's common heading is that alignment; a config
 entry's ``compass: visual`` (engine level, any method) turns the current view back by the
 visual compass's heading change first. The home direction is the angle of the difference.
-Segmentation (shared with the snapshot model): :mod:`homebench.methods.horizon_landmarks`.
+Segmentation (shared with the snapshot model): :mod:`homebench.methods.horizon_landmarks`,
+Otsu's two-class threshold of the horizon signal by default.
 
 No direction without evidence: a view with no landmark sector (a flat or one-sided horizon)
 gives :meth:`HomingEstimate.none`; equal ALVs (identical views) give ``angle=None``.
+
+Validation scene (tests/test_validation_alv.py): the papers' black cylinders on a bright wall,
+the wall lit 2:1 unevenly (style ``arena``, seeds 0-2, 5 x 5 grids within the four
+cylinders, photographed through the camera). The default segmentation finds exactly the
+cylinders in every view, and ALV homes as on the world's ground-truth landmarks (``render:
+landmarks``): AHC 0.979 against the control's 0.979, estimates 1.8 deg from the control's. The
+mean threshold takes the dim wall for landmarks too: AHC 0.910, 18 % of the pairs off by more
+than 45 deg.
 """
 
 from __future__ import annotations

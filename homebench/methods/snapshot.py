@@ -12,8 +12,14 @@ enlarge it) and away from it when it looks larger. The home vector is their (wei
 Here bearings are in the current robot frame, aligned with the snapshot's as the bee's compass
 aligns them: a grid database's common heading is that alignment; a config entry's ``compass:
 visual`` (engine level, any method) turns the current view back by the visual compass's heading
-change first. The segmentation is ALV's (:mod:`homebench.methods.horizon_landmarks`). A pair
-whose bearings (sizes) agree exactly adds no tangential (radial) vector.
+change first. The segmentation is ALV's (:mod:`homebench.methods.horizon_landmarks`: Otsu's
+threshold by default). A pair whose bearings (sizes) agree exactly adds no tangential (radial)
+vector.
+
+Validation scene (tests/test_validation_snapshot.py): ALV's, the paper's black cylinders on a
+bright, unevenly lit wall (style ``arena``): AHC 0.991 against 0.993 on the world's
+ground-truth landmarks, no pair off by more than 45 deg. The mean threshold's extra sectors
+(the dim wall) cost less than in ALV: AHC 0.981, 1.2 % of the pairs beyond 45 deg.
 
 No direction without evidence: no pair of sectors (a flat horizon) gives
 :meth:`HomingEstimate.none`; a zero sum (identical views) gives ``angle=None``.
