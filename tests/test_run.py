@@ -196,6 +196,19 @@ def test_rerun_recomputes_only_what_is_missing(tmp_path: Path, arena_manifest: P
     assert code == 0 and "4 job(s) computed, 0 reused" in out
 
 
+def _settled_count(jobs_dir: Path, quiet_s: float = 1.0) -> int:
+    """The job files in ``jobs_dir`` once none has appeared for ``quiet_s`` seconds: a process
+    being killed may still finish the rename it is in."""
+    count, since = -1, time.monotonic()
+    while True:
+        now = len(list(jobs_dir.glob("*.json")))
+        if now != count:
+            count, since = now, time.monotonic()
+        elif time.monotonic() - since >= quiet_s:
+            return count
+        time.sleep(0.05)
+
+
 def test_killed_run_resumes_to_the_same_tables(tmp_path: Path, arena_manifest: Path) -> None:
     reference, killed = tmp_path / "reference", tmp_path / "killed"
     reference.mkdir(), killed.mkdir()
@@ -213,16 +226,19 @@ def test_killed_run_resumes_to_the_same_tables(tmp_path: Path, arena_manifest: P
         "--no-progress",
         "--no-report",
     ]
-    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    # its own session, so that the kill reaches the run, its worker server and its worker at once
+    process = subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True
+    )
     jobs_dir = killed / "run" / "jobs"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and len(list(jobs_dir.glob("*.json"))) < 3:
         if process.poll() is not None:
             break
         time.sleep(0.02)
-    os.kill(process.pid, signal.SIGKILL)
+    os.killpg(process.pid, signal.SIGKILL)
     process.wait()
-    finished = len(list(jobs_dir.glob("*.json")))
+    finished = _settled_count(jobs_dir)
     assert 0 < finished < 20, "the run should have been killed half-way"
     code, out, err = _run(str(config))
     assert code == 0, err
