@@ -76,7 +76,7 @@ def main(debug: bool) -> None:
 
 @main.group(cls=_Group)
 def data() -> None:
-    """Grid databases: list, generate, verify, show, check."""
+    """Databases (manifests, Brains on Board folders): list, generate, verify, show, check."""
 
 
 @data.command("list")
@@ -98,34 +98,62 @@ def data_list() -> None:
     "instead (repeatable): original, arboreal, chairs, day, twilight, winlit."
 )  # fmt: skip
 @click.option("--out", type=click.Path(path_type=Path), help="Folder to write (default: cache).")
+@click.option(
+    "--format", "layout", type=click.Choice(["homebench", "bob"]), default="homebench",
+    show_default=True, help="homebench: raw/, unfolded/ and a manifest; bob: the Brains on Board "
+    "image-database format (database_entries.csv), written to --out from the cached world.",
+)  # fmt: skip
 @click.option("--jobs", "-j", type=int, default=-1, show_default=True, help="Parallel workers.")
 @click.option("--no-progress", is_flag=True, help="Hide the progress bar.")
 def data_generate(
-    database: str, variants: tuple[str, ...], out: Path | None, jobs: int, no_progress: bool
+    database: str,
+    variants: tuple[str, ...],
+    out: Path | None,
+    layout: str,
+    jobs: int,
+    no_progress: bool,
 ) -> None:
     """Generate DATABASE (a generated set's name or manifest) and print its folder."""
+    from homebench.data.bob import write_bob
     from homebench.data.catalog import ensure_generated, generate_variant
     from homebench.data.generate import progress_bars
+    from homebench.errors import ConfigError
+
+    bob = layout == "bob"
+    if bob and out is None:
+        raise ConfigError("--format bob writes a new folder: give it with --out DIR")
+
+    def made(db: Any, target: Path | None) -> None:
+        click.echo(str(write_bob(db, target) if bob else db.root))
 
     with progress_bars(not no_progress):
         if not variants:
-            click.echo(str(ensure_generated(database, out, jobs).root))
+            made(ensure_generated(database, None if bob else out, jobs), out)
         for variant in variants:
             target = out / variant if out is not None and len(variants) > 1 else out
-            click.echo(str(generate_variant(database, variant, target, jobs).root))
+            made(generate_variant(database, variant, None if bob else target, jobs), target)
 
 
 @data.command("verify")
 @click.argument("database")
 @click.option("--path", type=click.Path(path_type=Path), help="Folder of a real set's copy.")
 def data_verify(database: str, path: Path | None) -> None:
-    """Check a database's files (layout, sizes, sha256) against its manifest."""
+    """Check a database's files (layout, sizes, sha256) against its manifest, or a Brains on
+    Board database folder's against its database_entries.csv."""
     from homebench.data.catalog import find_manifest
-    from homebench.data.verify import verify
+    from homebench.data.verify import verify, verify_posed
 
-    manifest, _ = find_manifest(database)
     opened = _open_database(database, path)
-    report = verify(opened.database, manifest)
+    if opened.posed is not None:
+        report = verify_posed(opened.posed)
+        for warning in report.warnings:
+            click.echo(f"homebench: warning: {warning}", err=True)
+        click.echo(
+            f"{opened.label}: {report.n_images} images OK in {report.root} "
+            f"({opened.posed.layout()}; the format records no sums)"
+        )
+        return
+    report = verify(opened.database, find_manifest(database)[0])
     for warning in report.warnings:
         click.echo(f"homebench: warning: {warning}", err=True)
     tolerated = len(report.within_tolerance)
@@ -183,12 +211,14 @@ def data_check(database: str, path: Path | None, seed: int) -> None:
 
 def _open_database(database: str, path: Path | None) -> Any:
     """The database as the data commands open and name it (homebench.data.naming); its
-    manifest's warnings go to stderr."""
+    manifest's warnings and the notes on what was assumed in reading it go to stderr."""
     from homebench.data.naming import open_database
 
     opened = open_database(database, path)
     for warning in opened.warnings:
         click.echo(f"homebench: warning: {warning}", err=True)
+    for note in opened.notes:
+        click.echo(f"homebench: note: {note}", err=True)
     return opened
 
 

@@ -6,6 +6,7 @@ Example (see ``configs/quickstart.yaml``)::
     output: runs/quickstart            # relative to the current directory
     databases:                         # alias -> a database
       original: synth-original         #   a known database name or a manifest path
+      ants: data/ant_grid              #   a Brains on Board folder (database_entries.csv)
       day: {world: {variant: day, grid: {shape: [5, 7]}}}   # an inline generated world
     conditions: [original-original, original-day]   # current views from the first, goals
                                                     # from the second
@@ -32,6 +33,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from homebench.bounds import MAX_AHC_BINS, MAX_BANDS, count_problem, workers_problem
+from homebench.data.bob.overrides import BobOverrides, ImageOverrides
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
@@ -69,11 +71,14 @@ class _Strict(BaseModel):
 
 
 class DatabaseRef(_Strict):
-    """A database of the run: a known name or manifest path (``name``), or an inline ``world``."""
+    """A database of the run: a known name, manifest path or Brains on Board folder (``name``),
+    or an inline ``world``. ``images`` states a Brains on Board folder's camera model (as its
+    ``homebench.yaml`` would: :mod:`homebench.data.bob.overrides`), replacing what is assumed."""
 
     name: str | None = None
     path: Path | None = None  # root of a real set's copy (overrides the manifest's env variable)
     world: WorldSpec | None = None
+    images: ImageOverrides | None = None
 
     @model_validator(mode="after")
     def _one_source(self) -> DatabaseRef:
@@ -81,7 +86,14 @@ class DatabaseRef(_Strict):
             raise ValueError("give exactly one of 'name' and 'world'")
         if self.world is not None and self.path is not None:
             raise ValueError("'path' is for named databases, not generated worlds")
+        if self.world is not None and self.images is not None:
+            raise ValueError("'images' is for Brains on Board folders, not generated worlds")
         return self
+
+    @property
+    def overrides(self) -> BobOverrides | None:
+        """What the entry states of a Brains on Board folder (None: nothing)."""
+        return None if self.images is None else BobOverrides(images=self.images)
 
 
 class RandomGoals(_Strict):

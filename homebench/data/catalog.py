@@ -3,7 +3,9 @@
 Known databases are the manifests in the repository's ``data_manifests/`` plus those in the
 folders listed in ``$HOMEBENCH_MANIFESTS`` (``os.pathsep``-separated; they come first, so a user
 manifest may replace a shipped one of the same name). Anything else can be named by the path of a
-manifest file, or of a folder holding a ``manifest.yaml``.
+manifest file, or of a folder holding a ``manifest.yaml``, or of a folder in the Brains on Board
+format (a ``database_entries.csv`` and no ``manifest.yaml``: :mod:`homebench.data.bob`), whose
+grid databases open as grid databases.
 
 Where the images are: for a real set, ``path`` if given, else the folder in the manifest's
 ``source.path_env`` variable, else (for a manifest given by path) the manifest's own folder. For a
@@ -21,6 +23,7 @@ from pathlib import Path
 from typing import Literal
 
 import homebench
+from homebench.data.bob import ENTRIES_NAME, BobOverrides, is_bob_folder, open_bob
 from homebench.data.database import GridDatabase
 from homebench.data.generate import (
     MANIFEST_NAME,
@@ -119,11 +122,17 @@ def _declared_name(path: Path) -> str | None:
     return found[0].decode("ascii") if len(found) == 1 else None
 
 
-def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
-    """The manifest of a database name, manifest file or database folder.
+def find_manifest(
+    name_or_path: str | Path, overrides: BobOverrides | None = None
+) -> tuple[Manifest, Path | None]:
+    """The manifest of a database name, manifest file or database folder (of a Brains on Board
+    grid database: the manifest it maps onto, with ``overrides``).
 
     Returns the manifest and, when it was given by path, the folder it lives in.
     """
+    folder = bob_folder(name_or_path, overrides=overrides)
+    if folder is not None:
+        return open_bob(folder, overrides).grid_database().manifest, folder
     candidate = Path(name_or_path).expanduser()
     if (candidate / MANIFEST_NAME).is_file():
         return load_manifest(candidate / MANIFEST_NAME), candidate
@@ -133,7 +142,10 @@ def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
     if entry is not None:
         return entry.manifest, None
     if candidate.is_dir():
-        raise DataError(f"{candidate}: a database folder needs a {MANIFEST_NAME}")
+        raise DataError(
+            f"{candidate}: a database folder needs a {MANIFEST_NAME} (or, in the Brains on "
+            f"Board format, a {ENTRIES_NAME})"
+        )
     raise UnknownDatabaseError(
         unknown(
             "database",
@@ -144,8 +156,37 @@ def find_manifest(name_or_path: str | Path) -> tuple[Manifest, Path | None]:
     )
 
 
-def resolve(name_or_path: str | Path, path: Path | None = None) -> GridDatabase:
-    """The database named by ``name_or_path``, with images in ``path`` or its usual place."""
+def bob_folder(
+    name_or_path: str | Path, path: Path | None = None, overrides: BobOverrides | None = None
+) -> Path | None:
+    """The folder of the Brains on Board database ``name_or_path`` names (a folder with a
+    ``database_entries.csv`` and no ``manifest.yaml``, which would win); None for any other
+    locator. ConfigError for a ``path`` (images elsewhere) given with such a folder, and for
+    ``overrides`` of any other database."""
+    candidate = Path(name_or_path).expanduser()
+    if not is_bob_folder(candidate) or (candidate / MANIFEST_NAME).is_file():
+        if overrides is not None:
+            raise ConfigError(
+                f"{candidate}: overrides of the camera model are for Brains on Board database "
+                "folders (with a database_entries.csv); a manifest states its own"
+            )
+        return None
+    if path is not None:
+        raise ConfigError(
+            f"{candidate}: a Brains on Board database is read from its own folder; the path "
+            f"{path} is for databases named by a manifest"
+        )
+    return candidate
+
+
+def resolve(
+    name_or_path: str | Path, path: Path | None = None, overrides: BobOverrides | None = None
+) -> GridDatabase:
+    """The database named by ``name_or_path``, with images in ``path`` or its usual place; a
+    Brains on Board grid database with ``overrides`` (its own folder holds its images)."""
+    folder = bob_folder(name_or_path, path, overrides)
+    if folder is not None:
+        return open_bob(folder, overrides).grid_database()
     manifest, own_folder = find_manifest(name_or_path)
     if manifest.generator is not None:
         root = generated_location(manifest, own_folder, path)

@@ -62,11 +62,22 @@ class GridDatabase:
         """Camera pose at (i, j): grid position in metres and the image heading."""
         return self.grid.pose(i, j, self.heading(i, j))
 
-    def path(self, i: int, j: int, kind: str) -> Path:
-        """The file of (i, j): the first candidate extension that exists, else the first one."""
-        self._check_position(i, j)
+    @property
+    def shared_heading_deg(self) -> float | None:
+        """The manifest's one heading (deg) when every position has it, so that correcting it
+        turns every image; None when positions have their own."""
+        return None if self.manifest.headings_deg else self.manifest.heading_deg
+
+    def candidate_paths(self, i: int, j: int, kind: str) -> list[Path]:
+        """The files that may hold the image of (i, j), in order: the pattern's name with each
+        extension."""
         section = self.manifest.section(kind)
-        paths = [self.root / section.relative_path(n) for n in section.file_names(i, j)]
+        return [self.root / section.relative_path(n) for n in section.file_names(i, j)]
+
+    def path(self, i: int, j: int, kind: str) -> Path:
+        """The file of (i, j): the first candidate that exists, else the first one."""
+        self._check_position(i, j)
+        paths = self.candidate_paths(i, j, kind)
         return next((p for p in paths if p.is_file()), paths[0])
 
     def image(self, i: int, j: int, kind: str) -> NDArray[np.uint8]:
@@ -132,10 +143,8 @@ class GridDatabase:
     def _check_unopenable(self, kind: str, positions: list[tuple[int, int]]) -> None:
         """DataError naming the first file of an image at ``positions`` that is there but
         cannot be opened (a symbolic link loop): such an image is not missing."""
-        section = self.manifest.section(kind)
         for i, j in positions:
-            for name in section.file_names(i, j):
-                path = self.root / section.relative_path(name)
+            for path in self.candidate_paths(i, j, kind):
                 try:
                     os.stat(path)
                 except FileNotFoundError:  # no file, or a link to none: missing

@@ -78,7 +78,7 @@ def _has_control_or_backslash(text: str) -> bool:
     return "\\" in text or any(ord(c) < 32 or ord(c) == 127 for c in text)
 
 
-def _outside_problem(name: str) -> str | None:
+def outside_problem(name: str) -> str | None:
     """Why the relative file name ``name`` might not stay inside its folder, or None.
 
     A safe name has no control character or backslash and no empty, "." or ".." component, so
@@ -277,7 +277,7 @@ class ImageSection(_Strict):
                     f"use {{x}} and {{y}}, with at most a width of 1 to {MAX_FIELD_WIDTH} "
                     "(zero-padded as in {x:02d}), and {ext}"
                 )
-        problem = _outside_problem(pattern)
+        problem = outside_problem(pattern)
         if problem is not None:
             raise ValueError(f"pattern {pattern!r} {problem}")
         return pattern
@@ -313,7 +313,7 @@ class ImageSection(_Strict):
         extensions = self.extensions if self.uses_ext else self.extensions[:1]
         names = [self.pattern.format(x=i, y=j, ext=ext) for ext in extensions]
         for name in names:
-            problem = _outside_problem(name)
+            problem = outside_problem(name)
             if problem is not None:
                 raise DataError(
                     f"{name!r} (pattern {self.pattern!r}) {problem}: it could lie outside "

@@ -1,4 +1,5 @@
-"""Check a database folder against its manifest, and record a folder's sums into a manifest.
+"""Check a database folder against its manifest, and record a folder's sums into a manifest;
+check a database of posed images (the Brains on Board format) against its listing.
 
 :func:`verify` raises the first kind of problem it finds (missing images, sha256 mismatches,
 unreadable or wrongly sized images, unreadable ground truth) and otherwise returns a report of
@@ -21,6 +22,7 @@ from homebench.data.database import GridDatabase
 from homebench.data.fingerprint import fingerprint, matches
 from homebench.data.generate import MANIFEST_NAME, is_generated
 from homebench.data.manifest import Manifest, load_manifest
+from homebench.data.posed import PosedDatabase, listed
 from homebench.errors import ChecksumMismatchError, DataError
 from homebench.fileio import sha256_file, write_text_atomic
 
@@ -142,10 +144,6 @@ def _all_files(root: Path) -> list[str]:
     return sorted(found)
 
 
-#: Files named in a summary warning before "and N more".
-_SHOWN = 3
-
-
 def _extra_file_warnings(db: GridDatabase, extra: list[str]) -> list[str]:
     """One warning per kind of file the manifest does not know: images of positions outside
     the grid (per image kind), and unrelated files; each with a count and a few names."""
@@ -154,12 +152,21 @@ def _extra_file_warnings(db: GridDatabase, extra: list[str]) -> list[str]:
         kind = next((k for k in db.kinds if db.manifest.section(k).parse_path(relative)), None)
         what = f"{kind} images of positions outside the grid" if kind else "unrelated files"
         groups.setdefault(what, []).append(relative)
-    warnings = []
-    for what, names in groups.items():
-        shown = ", ".join(names[:_SHOWN])
-        more = f" and {len(names) - _SHOWN} more" if len(names) > _SHOWN else ""
-        warnings.append(f"{db.root}: {len(names)} {what}: {shown}{more}")
-    return warnings
+    return [f"{db.root}: {len(names)} {what}: {listed(names)}" for what, names in groups.items()]
+
+
+def verify_posed(db: PosedDatabase) -> VerifyReport:
+    """Verify a database of posed images (the Brains on Board format): every listed image
+    present, in a known format, of the database's size and decodable, else the error naming
+    the file; a warning for the files in its folder it does not list. The format records no
+    sums: every image is reported without one."""
+    db.check_images()
+    for k in range(len(db)):
+        db.image(k)  # decodes
+    known = {*db.files, *db.own_files}
+    extra = [relative for relative in _all_files(db.root) if relative not in known]
+    warnings = [f"{db.root}: {len(extra)} files not listed in {db.listing}: {listed(extra)}"]
+    return VerifyReport(db.name, db.root, (), db.files, tuple(warnings if extra else ()))
 
 
 def record_sums(manifest_path: Path, root: Path) -> Manifest:

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from homebench.config import DatabaseRef, RunConfig, SweptWorld
 from homebench.data import catalog
+from homebench.data.bob import BobOverrides
 from homebench.data.database import GridDatabase
 from homebench.data.file_hashes import file_hashes
 from homebench.data.generate import Generation, generate_many
@@ -41,7 +42,8 @@ class Source:
     hold the same pairs only where these are equal.
 
     ``locator`` is what :func:`homebench.data.catalog.resolve` takes (a known name, a manifest
-    file or a database folder) and ``path`` the folder of a real set's images, if given.
+    file or a database folder), ``path`` the folder of a real set's images, if given, and
+    ``overrides`` what the config states of a Brains on Board folder's camera.
     """
 
     alias: str
@@ -53,6 +55,7 @@ class Source:
     unfold_geometry: PanoramaGeometry | None  # to unfold raw images when there are no unfolded
     seed: int | None = None  # the world's seed for generated sets
     style: str | None = None  # the world's style for generated sets
+    overrides: BobOverrides | None = None
 
     @property
     def columns(self) -> int:
@@ -78,7 +81,7 @@ def _locate(alias: str, ref: DatabaseRef, world: SweptWorld) -> tuple[str, Gener
         generation = Generation(_in_world(ref.world, world), name=alias)
         return str(generation.folder), generation
     assert ref.name is not None
-    manifest, own_folder = catalog.find_manifest(ref.name)
+    manifest, own_folder = catalog.find_manifest(ref.name, ref.overrides)
     generator = manifest.generator
     if generator is None:
         return ref.name, None
@@ -96,7 +99,7 @@ def _prepare(
     """The source of database ``alias`` at ``locator`` (``generated``: a generated world,
     finished by now)."""
     path = ref.path
-    database = catalog.resolve(locator, None if generated else path)
+    database = catalog.resolve(locator, None if generated else path, ref.overrides)
     manifest = database.manifest
     kinds = _kinds_read(config, alias, database_label(manifest.name, ref.name or alias), manifest)
     database.check_images(kinds)
@@ -104,7 +107,9 @@ def _prepare(
     if generator is not None:
         identity = database_key = f"{manifest.name}-{generator.spec.key()}"
     else:
-        identity = f"{manifest.name}-{stable_hash(str(database.root.resolve()), 12)}"
+        root = str(database.root.resolve())  # and a config's camera model of a BoB folder:
+        images = [root, ref.images.model_dump(mode="json")] if ref.images is not None else root
+        identity = f"{manifest.name}-{stable_hash(images, 12)}"
         database_key = f"{manifest.name}-{content_key(database, kinds)}"
     needs_unfold = "unfolded" not in manifest.kinds
     return Source(
@@ -117,6 +122,7 @@ def _prepare(
         unfold_geometry=config.unfold.geometry() if needs_unfold else None,
         seed=generator.spec.seed if generator is not None else None,
         style=generator.spec.style if generator is not None else None,
+        overrides=ref.overrides,
     )
 
 
@@ -173,7 +179,7 @@ def prepare_sources(
 @lru_cache(maxsize=32)
 def open_source(source: Source) -> GridDatabase:
     """The database of a source, opened once per process."""
-    return catalog.resolve(source.locator, source.path)
+    return catalog.resolve(source.locator, source.path, source.overrides)
 
 
 def database_view(

@@ -83,8 +83,7 @@ def _check_kind(
     if conclusive(fits):  # the flow's signs need the images' azimuths
         some = first_per_axis(pairs, FLOW_PAIRS_PER_AXIS)
         fitted = _with_horizon(fitted, images, [pairs[k] for k in some], truths[some])
-    headings = None if db.manifest.headings_deg else db.manifest.heading_deg
-    return compare(kind, manifest, fitted, fits, rim, headings)
+    return compare(kind, manifest, fitted, fits, rim, db.shared_heading_deg)
 
 
 def _rim(images: Images, seed: int) -> Circle | None:

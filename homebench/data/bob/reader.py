@@ -1,0 +1,185 @@
+"""Open a Brains on Board image database: a folder read as a database of posed images.
+
+Positions become metres (mm / 1000; Z is not used), headings stay the recorded ones (degrees,
+counter-clockwise from +x, as BoB's robots and Ant World agents turn), each image's own. A grid
+database (``type: grid`` in the metadata, or Grid columns and no metadata) maps Grid X, Grid Y
+onto homebench's grid index (i, j): every index of the grid it spans once, one Grid Z layer,
+the positions on a regular grid (:func:`homebench.data.grid_fit.fit_grid`). A route database
+keeps its poses in file order. No file it reads may lie outside the folder through a symbolic
+link (a link inside it, or a folder that is one, is fine).
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.data.bob.camera import camera_model
+from homebench.data.bob.entries import Entries, read_entries
+from homebench.data.bob.layout import DESCRIPTION_FILES, ENTRIES_NAME, METADATA_NAME, OVERRIDES_NAME
+from homebench.data.bob.metadata import Metadata, read_metadata
+from homebench.data.bob.overrides import BobOverrides, read_overrides
+from homebench.data.grid_fit import fit_grid
+from homebench.data.manifest import MAX_GRID_POSITIONS
+from homebench.data.posed import PosedDatabase, listed
+from homebench.errors import DataError
+from homebench.fileio import check_image
+from homebench.geometry import Grid
+
+Stamp = tuple[int, int, int] | None
+
+
+def open_bob(folder: Path, overrides: BobOverrides | None = None) -> PosedDatabase:
+    """The database in ``folder`` (its ``homebench.yaml``, then ``overrides``, replacing what
+    the metadata says). A folder read before in this process, whose description files are
+    unchanged since, is not parsed again. DataError or ConfigError naming the file (and line)
+    of the first problem."""
+    folder = Path(os.path.abspath(Path(folder).expanduser()))
+    stamps = tuple(_stamp(folder / name) for name in DESCRIPTION_FILES)
+    return _open(folder, stamps, overrides)
+
+
+def _stamp(path: Path) -> Stamp:
+    """(inode, size, modification time) of ``path``; None where it cannot be read."""
+    try:
+        stat = path.stat()
+    except OSError:
+        return None
+    return stat.st_ino, stat.st_size, stat.st_mtime_ns
+
+
+@functools.lru_cache(maxsize=16)
+def _open(folder: Path, stamps: tuple[Stamp, ...], overrides: BobOverrides | None) -> PosedDatabase:
+    """The database in ``folder`` as of its description files' ``stamps``."""
+    inside = _Inside(folder)
+    for name in DESCRIPTION_FILES:
+        inside.check(name, str(folder / name))
+    entries = read_entries(folder / ENTRIES_NAME)
+    for k, name in enumerate(entries.files):
+        inside.check(name, entries.where(k))
+    metadata = read_metadata(folder / METADATA_NAME)
+    own = read_overrides(folder / OVERRIDES_NAME)
+    merged = overrides.over(own) if overrides is not None else own or BobOverrides()
+    if metadata is not None and metadata.video_file:
+        raise DataError(
+            f"{folder / METADATA_NAME}: a video database (videoFile: {metadata.video_file}): "
+            "homebench reads image files; write the frames as images (BoB's "
+            "ImageDatabase::unwrap does)"
+        )
+    is_grid = _is_grid(metadata, entries, folder)
+    size = (metadata.resolution if metadata else None) or _size(folder / entries.files[0])
+    overrides_name = str(folder / OVERRIDES_NAME)
+    camera = camera_model(metadata, merged, size, str(folder / METADATA_NAME), overrides_name)
+    xy = _read_only(entries.xyz_mm[:, :2] / 1000.0)
+    grid, index = _grid(entries, xy) if is_grid else (None, None)
+    return PosedDatabase(
+        name=merged.name or _name(folder),
+        description=merged.description
+        or f"Brains on Board {'grid' if is_grid else 'route'} database ({ENTRIES_NAME})",
+        root=folder,
+        kind=camera.kind,
+        size=size,
+        camera=camera.geometry,
+        xy=xy,
+        heading_deg=_read_only(entries.heading_deg),
+        files=entries.files,
+        listing=ENTRIES_NAME,
+        own_files=tuple(name for name in DESCRIPTION_FILES if (folder / name).exists()),
+        grid=grid,
+        grid_index=index,
+        notes=camera.notes,
+    )
+
+
+class _Inside:
+    """Checks that files named relative to ``folder`` stay inside it, links followed."""
+
+    def __init__(self, folder: Path):
+        self.folder = folder
+        self.real = os.path.realpath(folder)
+        self.parents: dict[str, str] = {}  # a file's folder -> its real path
+
+    def check(self, name: str, where: str) -> None:
+        """DataError starting with ``where`` when ``name`` lies outside the folder."""
+        path = os.path.join(self.folder, name)
+        parent, base = os.path.split(path)
+        if parent not in self.parents:
+            self.parents[parent] = os.path.realpath(parent)
+        real = (
+            os.path.realpath(path)
+            if os.path.islink(path)
+            else os.path.join(self.parents[parent], base)
+        )
+        if os.path.commonpath([self.real, real]) != self.real:
+            raise DataError(
+                f"{where}: {name} leads through a symbolic link to {real}, outside the database "
+                f"folder {self.real}"
+            )
+
+
+def _is_grid(metadata: Metadata | None, entries: Entries, folder: Path) -> bool:
+    """Whether the database is a grid: its metadata's ``type``, else its Grid columns."""
+    if metadata is None or metadata.type is None:
+        return entries.grid is not None
+    if metadata.type == "grid" and entries.grid is None:
+        raise DataError(
+            f"{folder / METADATA_NAME}: type: grid, but {entries.path} has no Grid X, Grid Y, "
+            "Grid Z columns"
+        )
+    return metadata.type == "grid"
+
+
+def _size(first: Path) -> tuple[int, int]:
+    """The size of the first image, where the metadata gives no resolution."""
+    header = check_image(first)
+    return header.width, header.height
+
+
+def _grid(entries: Entries, xy: NDArray[np.float64]) -> tuple[Grid, NDArray[np.int64]]:
+    """The grid of a grid database and each image's index (i, j), shape (n, 2)."""
+    assert entries.grid is not None
+    layers = np.unique(entries.grid[:, 2])
+    if layers.size > 1:
+        values = listed([str(z) for z in layers])
+        raise DataError(
+            f"{entries.path}: Grid Z takes {layers.size} values ({values}): homebench reads "
+            "grids of one layer"
+        )
+    ij = _read_only(entries.grid[:, :2])
+    nx, ny = (int(n) + 1 for n in ij.max(axis=0))
+    if nx * ny > MAX_GRID_POSITIONS:
+        raise DataError(
+            f"{entries.path}: Grid X, Grid Y span a {nx} x {ny} grid; at most "
+            f"{MAX_GRID_POSITIONS:,} positions are allowed"
+        )
+    first: dict[tuple[int, int], int] = {}
+    for k, (i, j) in enumerate(ij.tolist()):
+        if (i, j) in first:
+            raise DataError(
+                f"{entries.where(k)}: grid position ({i}, {j}) again (first on line "
+                f"{entries.lines[first[(i, j)]]})"
+            )
+        first[(i, j)] = k
+    if len(first) < nx * ny:
+        missing = [f"({i}, {j})" for i in range(nx) for j in range(ny) if (i, j) not in first]
+        raise DataError(
+            f"{entries.path}: no image of grid position(s) {listed(missing)} of the {nx} x {ny} "
+            "grid that Grid X, Grid Y span"
+        )
+    return fit_grid(xy, ij, str(entries.path), entries.where), ij
+
+
+def _read_only(array: NDArray) -> NDArray:
+    array.setflags(write=False)
+    return array
+
+
+def _name(folder: Path) -> str:
+    """A database name (letters, digits, . _ -) made of the folder's name."""
+    name = re.sub(r"[^A-Za-z0-9._-]+", "-", folder.name).lstrip("._-")
+    return name or "bob-database"

@@ -1,0 +1,178 @@
+"""Databases of posed images: every image with the pose it was taken at.
+
+A recorded route, or a grid recorded as a list of images with their poses (metres and degrees
+in homebench's world frame: x right, y up, headings counter-clockwise from +x), in recording
+order; one image kind per database. A database whose images carry grid indices is also a
+:class:`~homebench.data.database.GridDatabase` (:meth:`PosedDatabase.grid_database`), with the
+per-image headings as the manifest's ``headings_deg``: what the engine and the grid commands
+read.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from homebench.data.database import GridDatabase
+from homebench.data.manifest import (
+    SCHEMA_VERSION,
+    CatadioptricSection,
+    GridSection,
+    ImagesSection,
+    Manifest,
+    PanoramaSection,
+    RawImages,
+    UnfoldedImages,
+)
+from homebench.errors import DataError
+from homebench.fileio import check_image, read_grey
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose, grid_key
+from homebench.views import ImageKind, View
+
+#: Files named in a list before "and N more".
+SHOWN = 3
+
+
+@dataclass(frozen=True, eq=False)
+class PosedDatabase:
+    """Images at poses: ``xy`` (n, 2) metres and ``heading_deg`` (n,) degrees per image,
+    ``files`` (relative to ``root``) of one ``kind`` and ``size`` [width, height] with the
+    camera model ``camera``. A grid's images have ``grid_index`` (n, 2) on ``grid``; without a
+    grid the poses are a route, in recording order. ``listing`` is the file that lists the
+    images, ``own_files`` the files (relative to ``root``) that describe the database, not
+    images; ``notes`` say what was assumed in reading it."""
+
+    name: str
+    description: str
+    root: Path
+    kind: ImageKind
+    size: tuple[int, int]
+    camera: PanoramaGeometry | CatadioptricGeometry
+    xy: NDArray[np.float64]
+    heading_deg: NDArray[np.float64]
+    files: tuple[str, ...]
+    listing: str
+    own_files: tuple[str, ...] = ()
+    grid: Grid | None = None
+    grid_index: NDArray[np.int64] | None = None
+    notes: tuple[str, ...] = ()
+
+    def __len__(self) -> int:
+        return len(self.files)
+
+    @property
+    def kinds(self) -> tuple[ImageKind, ...]:
+        return (self.kind,)
+
+    def pose(self, k: int) -> Pose:
+        """The pose of image ``k``: position in metres, heading in radians."""
+        return Pose(float(self.xy[k, 0]), float(self.xy[k, 1]), math.radians(self.heading_deg[k]))
+
+    def path(self, k: int) -> Path:
+        return self.root / self.files[k]
+
+    def image(self, k: int) -> NDArray[np.uint8]:
+        """Grey image ``k``, shape (height, width) uint8; errors name the file."""
+        return read_grey(self.path(k), self.size)
+
+    def view(self, k: int) -> View:
+        return View(self.image(k), self.camera)
+
+    def check_images(self) -> None:
+        """Check every image without decoding it: present, in a known format, of ``size``, not
+        visibly cut short (see :func:`homebench.fileio.check_image`); errors name the files."""
+        missing = [name for k, name in enumerate(self.files) if not self.path(k).is_file()]
+        if missing:
+            raise DataError(
+                f"{self.root}: {len(missing)} image(s) listed in {self.listing} are missing: "
+                + listed(missing)
+            )
+        for k in range(len(self)):
+            check_image(self.path(k), self.size)
+
+    def layout(self) -> str:
+        """What the poses are, as words: "a 10 x 17 grid 0.3 m apart", "a route of ..."."""
+        if self.grid is not None:
+            nx, ny = self.grid.shape
+            return f"a {nx} x {ny} grid {self.grid.spacing:g} m apart"
+        length = float(np.sum(np.hypot(*np.diff(self.xy, axis=0).T)))
+        return f"a route of {len(self)} poses, {length:.2f} m long"
+
+    def grid_database(self) -> ListedGridDatabase:
+        """The images as a grid database; DataError when they have no grid (runs, ``data
+        show`` and ``data check`` read grids only, for now)."""
+        if self.grid is None or self.grid_index is None:
+            raise DataError(
+                f"{self.root}: {self.layout()}, not a grid; this needs a grid database (rows "
+                f"with Grid X, Grid Y, Grid Z in its {self.listing}): runs, data show and data "
+                "check read grids only, for now"
+            )
+        values, counts = np.unique(self.heading_deg, return_counts=True)
+        heading = float(values[np.argmax(counts)])
+        keys = [grid_key(int(i), int(j)) for i, j in self.grid_index]
+        manifest = Manifest(
+            schema=SCHEMA_VERSION,
+            name=self.name,
+            description=self.description,
+            grid=GridSection(
+                shape=self.grid.shape, spacing=self.grid.spacing, origin=self.grid.origin
+            ),
+            heading_deg=heading,
+            headings_deg={
+                k: float(h) for k, h in zip(keys, self.heading_deg, strict=True) if h != heading
+            },
+            images=ImagesSection(**{self.kind: self._section()}),
+        )
+        files = {
+            (int(i), int(j)): name for (i, j), name in zip(self.grid_index, self.files, strict=True)
+        }
+        return ListedGridDatabase(manifest, self.root, files, self.notes)
+
+    def _section(self) -> RawImages | UnfoldedImages:
+        """The manifest section of the images (files listed, not named by its pattern)."""
+        if isinstance(self.camera, CatadioptricGeometry):
+            catadioptric = CatadioptricSection.from_geometry(self.camera)
+            return RawImages(folder=".", size=self.size, catadioptric=catadioptric)
+        panorama = PanoramaSection.from_geometry(self.camera)
+        return UnfoldedImages(folder=".", size=self.size, panorama=panorama)
+
+
+def listed(names: list[str]) -> str:
+    """The first :data:`SHOWN` of ``names``, "and N more" for the rest."""
+    more = f" and {len(names) - SHOWN} more" if len(names) > SHOWN else ""
+    return ", ".join(names[:SHOWN]) + more
+
+
+class ListedGridDatabase(GridDatabase):
+    """A grid database whose image files are listed per position (``files``: relative to
+    ``root``), not named by its manifest's pattern; its headings are the listing's, ``notes``
+    say what was assumed in reading it."""
+
+    def __init__(
+        self,
+        manifest: Manifest,
+        root: Path,
+        files: Mapping[tuple[int, int], str],
+        notes: tuple[str, ...] = (),
+    ):
+        super().__init__(manifest, root)
+        self.files = dict(files)
+        self.notes = notes
+
+    @property
+    def shared_heading_deg(self) -> float | None:
+        return None
+
+    def candidate_paths(self, i: int, j: int, kind: str) -> list[Path]:
+        self.manifest.section(kind)  # DataError for a kind the database has not
+        return [self.root / self.files[(i, j)]]
+
+    def unmatched_patterns(self) -> list[str]:
+        """No pattern to mistype (check_layout names what is missing): the notes on what was
+        assumed take the place of its lines, so that a run says them where it would."""
+        return list(self.notes)

@@ -1,0 +1,349 @@
+"""Brains on Board image databases: folders written by hand (tests/bob_folders.py) through
+every data command, as API objects, in a run, and generated worlds written in the format and
+read back.
+
+The grid's images are the analytic arena's, where warping homes exactly: with each image's own
+heading the home directions of pairs whose images face different ways come out right, with one
+heading for all 45 to 170 deg wrong.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import math
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from bob_folders import (
+    ARENA,
+    GRID_SHAPE,
+    HEADING_DEG,
+    ROUTE_POSES,
+    TURNED_DEG,
+    grid_heading_deg,
+    grid_position_mm,
+    route_poses,
+    write_grid,
+    write_route,
+)
+from click.testing import CliRunner, Result
+from conftest import run_config
+from test_database import make_user_database
+from test_generate import FakeRenderer, small_spec
+
+from homebench.cli import EXIT_CHECK, main
+from homebench.data.bob import BobOverrides, open_bob, write_bob
+from homebench.data.catalog import find_manifest, resolve
+from homebench.data.database import GridDatabase
+from homebench.data.generate import generate, manifest_for_spec
+from homebench.data.manifest import Manifest, load_manifest
+from homebench.errors import ConfigError, DataError
+from homebench.fileio import read_grey
+from homebench.geometry import angular_error, home_direction
+from homebench.methods import registry
+
+
+@pytest.fixture(scope="module")
+def grid(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_grid(tmp_path_factory.mktemp("bob") / "arena-grid")
+
+
+@pytest.fixture(scope="module")
+def route(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_route(tmp_path_factory.mktemp("bob") / "arena-route")
+
+
+def _data(*args: str) -> Result:
+    return CliRunner().invoke(main, ["data", *args])
+
+
+def _error_line(result: Result) -> str:
+    """The one line of a data error (exit 2)."""
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    errors = [line for line in lines if not line.startswith("homebench: note:")]
+    assert len(errors) == 1 and errors[0].startswith("homebench: error: "), result.stderr
+    return errors[0]
+
+
+def test_every_data_command_reads_a_grid_folder(grid: Path, tmp_path: Path) -> None:
+    verified = _data("verify", str(grid))
+    assert verified.exit_code == 0, verified.output
+    assert f"arena-grid ({grid}): 25 images OK in {grid} (a 5 x 5 grid 0.3 m apart" in (
+        verified.stdout
+    )
+    notes = [line for line in verified.stderr.splitlines() if "homebench: note:" in line]
+    assert len(notes) == 1 and "horizon at the middle row" in notes[0]
+    assert "+30.0 to -30.0 deg" in notes[0]
+
+    shown = _data("show", str(grid), "--out", str(tmp_path), "--at", "1", "2")
+    assert shown.exit_code == 0, shown.output
+    assert (tmp_path / "arena-grid_contact_sheet.png").stat().st_size > 10_000
+
+    checked = _data("check", str(grid))
+    assert checked.exit_code == 0, checked.output
+    assert "the manifest agrees with the images" in checked.stdout
+
+
+def _homebench(*args: str) -> subprocess.CompletedProcess[str]:
+    """``homebench ARGS`` in a process of its own, as a user types it."""
+    return subprocess.run(
+        [sys.executable, "-m", "homebench", *args],
+        capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+
+
+def test_every_command_in_a_process_of_its_own(grid: Path, tmp_path: Path) -> None:
+    """The hand-written folder through every data command and a run, each a real process."""
+    verified = _homebench("data", "verify", str(grid))
+    assert verified.returncode == 0, verified.stderr
+    assert "25 images OK" in verified.stdout and "a 5 x 5 grid 0.3 m apart" in verified.stdout
+    assert "horizon at the middle row" in verified.stderr
+
+    shown = _homebench("data", "show", str(grid), "--out", str(tmp_path))
+    assert shown.returncode == 0, shown.stderr
+    assert (tmp_path / "arena-grid_contact_sheet.png").is_file()
+
+    checked = _homebench("data", "check", str(grid))
+    assert checked.returncode == 0, checked.stderr + checked.stdout
+    assert "the manifest agrees with the images" in checked.stdout
+
+    config = tmp_path / "run.yaml"
+    config.write_text(yaml.safe_dump({
+        "name": "bob-process", "output": str(tmp_path / "run"), "databases": {"arena": str(grid)},
+        "conditions": ["arena-arena"], "goals": [[1, 2]], "methods": [{"method": "warping"}],
+    }))  # fmt: skip
+    ran = _homebench("run", str(config), "--no-progress", "--no-report")
+    assert ran.returncode == 0, ran.stderr
+    assert "warping" in ran.stdout
+    assert "horizon at the middle row" in ran.stdout + ran.stderr
+    pairs = (tmp_path / "run" / "tables" / "pairs.csv").read_text().splitlines()
+    assert len(pairs) == 1 + 24
+
+
+def test_grid_positions_in_metres_and_each_image_its_heading(grid: Path) -> None:
+    db = resolve(grid)
+    assert isinstance(db, GridDatabase) and db.kinds == ("unfolded",)
+    assert db.grid.shape == GRID_SHAPE and db.grid.spacing == 0.3
+    assert db.grid.origin == (-0.6, -0.45)
+    assert db.geometry("unfolded") == ARENA
+    for i, j in db.grid.indices():
+        pose = db.pose(i, j)
+        x, y = grid_position_mm(i, j)
+        assert (pose.x, pose.y) == pytest.approx((x / 1000, y / 1000), abs=1e-12)
+        assert pose.heading == pytest.approx(math.radians(grid_heading_deg(i, j)))
+    assert db.manifest.heading_deg == HEADING_DEG
+    assert db.manifest.headings_deg == {f"{i}_{j}": h for (i, j), h in TURNED_DEG.items()}
+    colour = read_grey(db.path(2, 2, "unfolded"))  # written in colour, read as grey
+    assert colour.shape == (ARENA.height, ARENA.width)
+
+
+def test_a_per_image_heading_turns_the_true_home_direction(grid: Path) -> None:
+    db, warping = resolve(grid), registry.create("warping")
+    for current, goal in [((1, 2), (2, 2)), ((3, 3), (2, 3)), ((4, 0), (4, 1))]:
+        estimate = warping.home(
+            warping.describe(db.view(*current, "unfolded")),
+            warping.describe(db.view(*goal, "unfolded")),
+        ).angle
+        c, g = db.pose(*current), db.pose(*goal)
+        assert math.degrees(angular_error(estimate, home_direction(c.xy, g.xy, c.heading))) < 2
+        shared = home_direction(c.xy, g.xy, math.radians(HEADING_DEG))
+        assert math.degrees(angular_error(estimate, shared)) > 40
+
+
+def test_a_run_names_the_folder_as_its_database(grid: Path, tmp_path: Path) -> None:
+    config = {
+        "name": "bob-run",
+        "output": str(tmp_path / "run"),
+        "databases": {"arena": str(grid)},
+        "conditions": ["arena-arena"],
+        "goals": [[1, 2], [4, 0]],
+        "methods": [{"method": "warping"}],
+    }
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    pairs = (tmp_path / "run" / "tables" / "pairs.csv").read_text().splitlines()
+    assert len(pairs) == 1 + 2 * 24
+
+
+def test_a_config_entry_states_the_camera(grid: Path, tmp_path: Path) -> None:
+    """``images`` of a database entry replaces the assumed camera model (and its note); it is
+    refused for a database that states its own."""
+    panorama = {"elevation_top_deg": 30.0, "elevation_bottom_deg": -30.0}
+    config = {
+        "name": "bob-images", "output": str(tmp_path / "run"),
+        "databases": {"arena": {"name": str(grid), "images": {"unfolded": {"panorama": panorama}}}},
+        "conditions": ["arena-arena"], "goals": [[4, 0]], "methods": [{"method": "warping"}],
+    }  # fmt: skip
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 0, result.output
+    assert "horizon at the middle row" not in result.output + result.stderr
+
+    config["databases"] = {"arena": {"name": "synth-original", "images": config["databases"][
+        "arena"]["images"]}}  # fmt: skip
+    refused = run_config(tmp_path, config)
+    assert refused.exit_code == 2 and "are for Brains on Board database folders" in refused.stderr
+
+    config["databases"] = {"arena": {"world": {}, "images": {}}}
+    refused = run_config(tmp_path, config)
+    assert refused.exit_code == 2 and "'images' is for Brains on Board folders" in refused.stderr
+
+
+def test_a_run_refuses_a_route_folder(route: Path, tmp_path: Path) -> None:
+    config = {
+        "name": "bob-route", "output": str(tmp_path / "run"), "databases": {"r": str(route)},
+        "conditions": ["r-r"], "goals": [[0, 0]], "methods": [{"method": "warping"}],
+    }  # fmt: skip
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 2, result.output
+    assert f"{route}: a route of 10 poses" in result.stderr
+    assert "runs, data show and data check read grids only, for now" in result.stderr
+    assert not (tmp_path / "run" / "tables").exists()
+
+
+def test_a_route_folder_is_verified_and_grid_commands_say_they_need_a_grid(route: Path) -> None:
+    verified = _data("verify", str(route))
+    assert verified.exit_code == 0, verified.output
+    assert f"{ROUTE_POSES} images OK" in verified.stdout
+    assert "a route of 10 poses, 1.57 m long" in verified.stdout
+    for command in ("show", "check"):
+        line = _error_line(_data(command, str(route)))
+        assert str(route) in line and "not a grid; this needs a grid database" in line
+        assert "runs, data show and data check read grids only, for now" in line
+    with pytest.raises(DataError, match="a route of 10 poses"):
+        resolve(route)
+
+
+def test_route_poses_keep_their_order_in_metres_and_radians(route: Path) -> None:
+    db = open_bob(route)
+    assert db.grid is None and len(db) == ROUTE_POSES and db.kinds == ("unfolded",)
+    for k, (x, y, heading) in enumerate(route_poses()):
+        pose = db.pose(k)
+        assert (pose.x, pose.y) == pytest.approx((x / 1000, y / 1000), abs=1e-12)
+        assert pose.heading == pytest.approx(math.radians(heading))
+        assert db.path(k).name == f"image{k + 1:05d}.png"
+    assert db.view(3).image.shape == (ARENA.height, ARENA.width)
+
+
+def test_a_generated_world_round_trips_through_the_format(tmp_path: Path) -> None:
+    manifest = tmp_path / "tiny.yaml"
+    manifest.write_text(manifest_for_spec(small_spec(seed=11), "tiny-world").to_yaml())
+    out = tmp_path / "tiny-bob"
+    args = ["generate", str(manifest), "--format", "bob", "--out", str(out), "--jobs", "1"]
+    result = _data(*args, "--no-progress")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.strip() == str(out)
+    entries = (out / "database_entries.csv").read_text().splitlines()
+    assert entries[0].startswith("X [mm], Y [mm], Z [mm], Heading [degrees], Filename, Grid X")
+    assert (out / "database_metadata.yaml").read_text().startswith("%YAML:1.0\n")
+
+    generated, written = resolve(manifest), resolve(out)
+    assert written.name == "tiny-world" and written.grid == generated.grid
+    assert written.geometry("unfolded") == generated.geometry("unfolded")
+    for i, j in generated.grid.indices():
+        assert written.pose(i, j) == generated.pose(i, j)
+        assert written.path(i, j, "unfolded").read_bytes() == (
+            generated.path(i, j, "unfolded").read_bytes()
+        )
+        assert np.array_equal(written.image(i, j, "unfolded"), generated.image(i, j, "unfolded"))
+    verified = _data("verify", str(out))
+    assert verified.exit_code == 0 and verified.stderr == "", verified.output
+    assert _run_pairs(tmp_path / "gen", str(manifest)) == _run_pairs(tmp_path / "bob", str(out))
+
+    assert "exists and is not empty" in _error_line(_data(*args))
+    assert "--out" in _error_line(_data("generate", str(manifest), "--format", "bob"))
+
+
+#: What a run finds for each pair, whatever the database is called.
+RESULT_COLUMNS = (
+    *("heading_rad", "goal_heading_rad", "estimate_rad", "truth_rad", "ae_rad"),
+    *("rotation_estimate_rad", "distance_m", "n_landmarks", "score", "error"),
+)
+
+
+def _run_pairs(folder: Path, database: str) -> dict[tuple[str, ...], tuple[str, ...]]:
+    """The results of a run of two methods over ``database``, by (method, goal, current)."""
+    config = {
+        "name": "round-trip", "output": str(folder / "run"), "databases": {"db": database},
+        "conditions": ["db-db"], "goals": [[1, 2]],
+        "methods": [{"method": "warping"}, {"method": "alv"}],
+    }  # fmt: skip
+    folder.mkdir()
+    result = run_config(folder, config)
+    assert result.exit_code == 0, result.output
+    with (folder / "run" / "tables" / "pairs.csv").open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    keys = ("method", "goal_i", "goal_j", "current_i", "current_j")
+    pairs = {tuple(r[k] for k in keys): tuple(r[c] for c in RESULT_COLUMNS) for r in rows}
+    assert len(pairs) == 2 * 11 and all(r["error"] == "" for r in rows)
+    return pairs
+
+
+@pytest.mark.parametrize("kind", ["unfolded", "raw"])
+def test_a_manifest_database_round_trips_with_its_headings_and_camera(
+    kind: str, tmp_path: Path
+) -> None:
+    """A user's database (per-position headings, clockwise panoramas with azimuth 0 at column
+    5), and a raw-only one: written in the format, read back the same."""
+    if kind == "unfolded":
+        user = make_user_database(tmp_path / "user")
+        source = GridDatabase(load_manifest(user / "manifest.yaml"), user)
+    else:
+        generated = resolve(generate(small_spec(seed=3), tmp_path / "gen", 1, "tiny",
+                                     renderer=FakeRenderer()))  # fmt: skip
+        data = generated.manifest.model_dump(by_alias=True, exclude={"generator", "ground_truth"})
+        del data["images"]["unfolded"]
+        source = GridDatabase(Manifest.model_validate(data), generated.root)
+    written = open_bob(write_bob(source, tmp_path / "bob"))
+    assert written.kind == kind and written.notes == () and written.name == source.name
+    assert _same_model(written.camera, source.geometry(kind))
+    back = written.grid_database()
+    assert back.grid == source.grid and back.manifest.headings_deg == source.manifest.headings_deg
+    for i, j in source.grid.indices():
+        assert back.pose(i, j) == pytest.approx(source.pose(i, j))
+        assert back.path(i, j, kind).read_bytes() == source.path(i, j, kind).read_bytes()
+
+
+def _same_model(a: object, b: object) -> bool:
+    """Camera models equal up to the 1e-9 deg rounding of a manifest's degrees."""
+    return all(
+        x == y if isinstance(x, str) else np.allclose(x, y, atol=1e-9)
+        for x, y in zip(dataclasses.astuple(a), dataclasses.astuple(b), strict=True)
+    )
+
+
+def test_homebench_yaml_states_the_camera_and_a_config_overrides_it(
+    grid: Path, tmp_path: Path
+) -> None:
+    folder = tmp_path / "g"
+    shutil.copytree(grid, folder)
+    panorama = {"elevation_top_deg": 30.0, "elevation_bottom_deg": -30.0, "zero_column": 72.0}
+    own = {"name": "our-arena", "images": {"unfolded": {"panorama": panorama}}}
+    (folder / "homebench.yaml").write_text(yaml.safe_dump(own))
+    db = open_bob(folder)
+    assert db.name == "our-arena" and db.notes == () and db.camera.zero_column == 72.0
+
+    checked = _data("check", str(folder))  # azimuth 0 is at column 0, not 72 (90 deg)
+    assert checked.exit_code == EXIT_CHECK, checked.output
+    fix = re.search(
+        r"set images\.unfolded\.panorama\.zero_column: ([0-9.]+) \(manifest: 72", checked.stdout
+    )
+    assert fix is not None and min(float(fix[1]), 288 - float(fix[1])) < 1.5, checked.stdout
+    assert "heading_deg" not in checked.stdout  # headings come from the CSV, not a manifest
+
+    config = BobOverrides.model_validate({"images": {"unfolded": {"panorama": {
+        "elevation_top_deg": 30, "elevation_bottom_deg": -30}}}})  # fmt: skip
+    database = resolve(folder, overrides=config)
+    assert database.name == "our-arena" and database.geometry("unfolded") == ARENA
+    assert find_manifest(folder, overrides=config)[0].images.unfolded.panorama.zero_column == 0
+    with pytest.raises(ConfigError, match="are for Brains on Board database folders"):
+        resolve("synth-original", overrides=config)
+    with pytest.raises(ConfigError, match="read from its own folder"):
+        resolve(folder, tmp_path)
