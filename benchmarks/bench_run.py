@@ -2,20 +2,24 @@
 
     python benchmarks/bench_run.py                        # 4 goals of synth-original
     python benchmarks/bench_run.py --goals 10 --methods warping sift
+    python benchmarks/bench_run.py --goals all --methods warping   # all 28,730 pairs
 
 For each method: the floor, the method alone (``describe`` of every image the run needs once,
 then ``home`` of every pair with what it needs beyond the two views; images decoded and one
 warm-up call made beforehand, not timed), as process CPU per pair, in an isolated worker as
 the jobs run (one thread per numeric library, their allocator settings, forked from a worker
-server); then fresh runs of the same plan (``run_plan`` in a new folder, workers included:
-the CPU of this process and its waited-for children per pair) with --jobs 1 and --jobs 2.
-Ratios: the run's CPU per pair over the floor's (target 1.15), and --jobs 1 wall time over
---jobs 2's (target 1.8 on an idle 2-core machine). A run also pays costs that do not grow with
-its pairs (the worker server's imports, planning, the run's records, opening the databases in
-each worker): "fixed CPU" (s) is the CPU of a one-goal run of the method beyond its own floor (the
-median of three), and "marginal" the run's CPU per pair without it over the floor's, at
---jobs 1 / --jobs 2. The load average before and after each line says how busy the machine
-was.
+server); for a method with a batch call, also the batch floor: each job's pairs homed by one
+``home_many`` call, as the runs call it (:func:`homebench.methods.base.home_many`; the same
+as the floor for other methods). Then fresh runs of the same plan (``run_plan`` in a new
+folder, workers included: the CPU of this process and its waited-for children per pair) with
+--jobs 1 and --jobs 2. Ratios, CPU over CPU: the run's CPU per pair over the floor's and over
+the batch floor's (target 1.15); and the throughput of --jobs 2 over --jobs 1's, which is
+--jobs 1 wall time over --jobs 2's (target 1.8 on an idle 2-core machine). A run also pays costs
+that do not grow with its pairs (the worker server's imports, planning, the run's records,
+opening the databases in each worker): "fixed CPU" (s) is the CPU of a one-goal run of the
+method beyond its own batch floor (the median of three), and "marginal" the run's CPU without it
+over the batch floor's, at --jobs 1 / --jobs 2. The load average before and after each line says
+how busy the machine was.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ from homebench.evaluation.jobs import _GridViews
 from homebench.evaluation.plan import HomeJob, ImageTask, make_plan
 from homebench.evaluation.runner import Execution, RunOutcome, run_plan
 from homebench.evaluation.sources import load_view, open_source, prepare_sources
+from homebench.methods.base import batch_home, home_many
 
 METHODS = ("warping", "min-warping", "sift", "klt-sector")
 DATABASE = "synth-original"
@@ -59,12 +64,14 @@ def run_config(output: Path, method: str, goals: object) -> RunConfig:
     )
 
 
-def _random_goals(goals: int) -> dict[str, int]:
-    return {"random": goals, "seed": 1}
+def _random_goals(goals: int | str) -> dict[str, int] | str:
+    """A config's goals: ``goals`` at random (seed 1), or ``"all"``."""
+    return goals if goals == "all" else {"random": int(goals), "seed": 1}
 
 
-def _floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
-    """Process CPU seconds of the bare method over the plan's pairs, and the pair count."""
+def _floor(jobs: tuple[HomeJob, ...], batch: bool = False) -> tuple[float, int]:
+    """Process CPU seconds of the bare method over the plan's pairs, and the pair count; with
+    ``batch``, each job's pairs homed by one :func:`~homebench.methods.base.home_many` call."""
     cv2.setNumThreads(1)  # as in the workers: other threads' CPU would count in the floor
     method = jobs[0].method.create()
     images: dict[ImageTask, object] = {}
@@ -79,19 +86,35 @@ def _floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
     for job in jobs:
         views = _GridViews(job, method)
         database = open_source(job.currents[0].source)
-        for task in job.currents:
-            extra = views.extra(task, database.heading(task.i, task.j) + task.rotation)
-            method.home(features[task], features[job.goal], **extra)
-            pairs += 1
+        extras = [
+            views.extra(task, database.heading(task.i, task.j) + task.rotation)
+            for task in job.currents
+        ]
+        goal = features[job.goal]
+        if batch:
+            names = extras[0].keys() if extras else ()
+            currents = [features[task] for task in job.currents]
+            home_many(method, currents, goal, **{k: [e[k] for e in extras] for k in names})
+        else:
+            for task, extra in zip(job.currents, extras, strict=True):
+                method.home(features[task], goal, **extra)
+        pairs += len(job.currents)
     return time.process_time() - start, pairs
 
 
-def floor_in_worker(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
-    """:func:`_floor` in an isolated worker, as the jobs run."""
+def _batch_floor(jobs: tuple[HomeJob, ...]) -> tuple[float, int]:
+    """:func:`_floor` with each job's pairs in one batch call."""
+    return _floor(jobs, batch=True)
+
+
+def floor_in_worker(jobs: tuple[HomeJob, ...], batch: bool = False) -> tuple[float, int]:
+    """:func:`_floor` (with ``batch``, :func:`_batch_floor`) in an isolated worker, as the
+    jobs run."""
     import bench_run  # workers import a function by its module's name, not from "__main__"
 
     with WorkerPool(1, preload=PRELOAD) as pool:
-        ((_, result),) = pool.map_unordered(bench_run._floor, [jobs])
+        work = bench_run._batch_floor if batch else bench_run._floor
+        ((_, result),) = pool.map_unordered(work, [jobs])
     if isinstance(result, Crash):
         raise SystemExit(f"the floor's worker failed: {result.cause}")
     return result
@@ -108,44 +131,51 @@ def timed_run(config: RunConfig, jobs: int) -> tuple[RunOutcome, float, float]:
     return outcome, wall, cpu
 
 
-def _measure(folder: Path, method: str, goals: int) -> tuple[float, int, dict[int, tuple]]:
-    """The floor's CPU seconds and pair count of a plan of ``goals`` goals, and the wall and
-    CPU seconds of fresh runs of it with --jobs 1 and 2."""
+def _measure(
+    folder: Path, method: str, goals: int | str
+) -> tuple[tuple[float, float], int, dict[int, tuple]]:
+    """The floor's and the batch floor's CPU seconds and the pair count of a plan of ``goals``
+    goals, and the wall and CPU seconds of fresh runs of it with --jobs 1 and 2."""
     config = run_config(folder / "plan", method, _random_goals(goals))
     plan = make_plan(config, prepare_sources(config, 2), Path("bench"))
     floor, pairs = floor_in_worker(plan.home)
+    batched = batch_home(plan.home[0].method.create()) is not None
+    batch_floor = floor_in_worker(plan.home, batch=True)[0] if batched else floor
     runs = {
         n: timed_run(run_config(folder / f"jobs{n}", method, _random_goals(goals)), n)[1:]
         for n in (1, 2)
     }
-    return floor, pairs, runs
+    return (floor, batch_floor), pairs, runs
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--goals", type=int, default=4, help="goals (all currents each)")
+    parser.add_argument("--goals", default="4", help="goals (all currents each), or 'all'")
     parser.add_argument("--methods", nargs="+", default=list(METHODS))
     args = parser.parse_args()
     ensure_generated(DATABASE, jobs=2)
-    print("per pair: process CPU ms (this process and its workers for the runs); whole runs: s")
+    print("per pair: process CPU ms (this process and its workers for the runs); whole runs: s;")
+    print("ratio: a run's CPU over the floor's / over the batch floor's; speed-up: j1 over j2 wall")
     print(
-        f"{'method':<12} {'pairs':>5} {'floor CPU':>9} {'j1 CPU':>7} {'ratio':>5} {'j2 CPU':>7} "
-        f"{'ratio':>5} {'j1 wall':>7} {'j2 wall':>7} {'speed-up':>8} {'fixed CPU':>9} "
-        f"{'marginal':>9}  load before/after"
+        f"{'method':<12} {'pairs':>5} {'floor CPU':>9} {'batch':>6} {'j1 CPU':>7} {'ratio':>9} "
+        f"{'j2 CPU':>7} {'ratio':>9} {'j1 wall':>7} {'j2 wall':>7} {'speed-up':>8} "
+        f"{'fixed CPU':>9} {'marginal':>9}  load before/after"
     )
     for name in args.methods:
         load = os.getloadavg()[0]
         with tempfile.TemporaryDirectory() as folder:
-            floor, pairs, runs = _measure(Path(folder) / "all", name, args.goals)
+            floors, pairs, runs = _measure(Path(folder) / "all", name, args.goals)
             ones = [_measure(Path(folder) / f"one{k}", name, 1) for k in range(FIXED_REPEATS)]
+        floor_ms, batch_ms = (1000.0 * floor / pairs for floor in floors)
         per_pair = {n: 1000.0 * cpu / pairs for n, (_, cpu) in runs.items()}
-        fixed = {n: statistics.median(run[n][1] - one_floor for one_floor, _, run in ones)
+        ratios = {n: f"{per_pair[n] / floor_ms:.2f}/{per_pair[n] / batch_ms:.2f}" for n in runs}
+        # beyond the batch floor, as the runs call the method
+        fixed = {n: statistics.median(run[n][1] - one_floors[1] for one_floors, _, run in ones)
                  for n in runs}  # fmt: skip
-        marginal = {n: (runs[n][1] - fixed[n]) / floor for n in runs}
-        floor_ms = 1000.0 * floor / pairs
+        marginal = {n: (runs[n][1] - fixed[n]) / floors[1] for n in runs}
         print(
-            f"{name:<12} {pairs:>5} {floor_ms:>9.2f} {per_pair[1]:>7.2f} "
-            f"{per_pair[1] / floor_ms:>5.2f} {per_pair[2]:>7.2f} {per_pair[2] / floor_ms:>5.2f} "
+            f"{name:<12} {pairs:>5} {floor_ms:>9.2f} {batch_ms:>6.2f} {per_pair[1]:>7.2f} "
+            f"{ratios[1]:>9} {per_pair[2]:>7.2f} {ratios[2]:>9} "
             f"{runs[1][0]:>7.2f} {runs[2][0]:>7.2f} {runs[1][0] / runs[2][0]:>8.2f} "
             f"{fixed[1]:>4.2f}/{fixed[2]:>4.2f} {marginal[1]:>4.2f}/{marginal[2]:>4.2f}  "
             f"{load:.2f}/{os.getloadavg()[0]:.2f}",

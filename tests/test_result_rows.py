@@ -14,9 +14,10 @@ from conftest import arena_config, run_config
 from plugins import install_plugin
 
 from homebench.config import RunConfig
+from homebench.evaluation import pair_calls
 from homebench.evaluation.jobs import ROW_COLUMNS, run_describe_job, run_home_job
 from homebench.evaluation.plan import make_plan
-from homebench.evaluation.sources import open_source, prepare_sources
+from homebench.evaluation.sources import load_view, open_source, prepare_sources
 from homebench.geometry import angle_diff
 from homebench.methods.base import HomingEstimate
 from homebench.methods.warping import Warping
@@ -28,9 +29,12 @@ def _refuse_constant(name: str) -> float:
     raise ValueError(f"not strict JSON: {name}")
 
 
+@pytest.mark.parametrize("calls", ["pair by pair", "batch"])
 def test_rows_hold_each_pairs_answer_and_truth_and_the_file_is_strict_json(
-    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch, calls: str
 ) -> None:
+    """The same rows whether the method homes pair by pair or in a batch call; a batch that
+    raises is made again pair by pair, so only its failing pair fails."""
     config = RunConfig.model_validate(
         arena_config(tmp_path, arena_manifest, goals=[[1, 2]], methods=[{"method": "warping"}])
     )
@@ -40,11 +44,15 @@ def test_rows_hold_each_pairs_answer_and_truth_and_the_file_is_strict_json(
         assert run_describe_job(job, run_dir).error is None
     (job,) = plan.home
     currents = [(task.i, task.j) for task in job.currents]
-    failing, undecided, nan_score = currents[0], currents[1], currents[2]
-    answers = iter(currents)
+    undecided, nan_score, failing = currents[0], currents[1], currents[2]
+    views = {  # the current views by their features (warping's signals differ from view to view)
+        Warping().describe(load_view(t.source, t.i, t.j, "unfolded")).tobytes(): (t.i, t.j)
+        for t in job.currents
+    }
+    batches = []
 
-    def stub(self, current, goal, **extra):  # pairs come in the job's order
-        here = next(answers)
+    def stub(self, current, goal, **extra):
+        here = views[current.tobytes()]
         if here == failing:
             raise RuntimeError("stub failure")
         if here == undecided:
@@ -52,8 +60,21 @@ def test_rows_hold_each_pairs_answer_and_truth_and_the_file_is_strict_json(
         score = math.nan if here == nan_score else np.float32(0.5)
         return HomingEstimate(ANGLE, rotation=np.float64(0.125), n_landmarks=7, score=score)
 
+    def stub_many(self, currents, goal, **extra):
+        batches.append(len(currents))
+        if any(views[c.tobytes()] == failing for c in currents):
+            raise RuntimeError("a batch with the failing pair")
+        return [stub(self, c, goal) for c in currents]
+
     monkeypatch.setattr(Warping, "home", stub)
+    monkeypatch.setattr(pair_calls, "_CALLED", set())  # as in a fresh worker
+    if calls == "batch":
+        monkeypatch.setattr(Warping, "home_many", stub_many)
+    else:
+        monkeypatch.delattr(Warping, "home_many")
     assert run_home_job(job, run_dir).error is None
+    # the first pair alone (a process's first call), then one batch, which fails
+    assert batches == ([len(currents) - 1] if calls == "batch" else [])
 
     text = job.result_path(run_dir).read_text(encoding="utf-8")
     rows = json.loads(text, parse_constant=_refuse_constant)["rows"]

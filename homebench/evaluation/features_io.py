@@ -62,7 +62,7 @@ BUILT_IN = (SiftFeatures, KltFeatures, PanoramaGeometry, CatadioptricGeometry)
 @dataclass(frozen=True)
 class StoredFeatures:
     """What a feature file holds: the method's features and the time ``describe`` took (ms;
-    NaN for a process's first describe, see :func:`~homebench.evaluation.jobs.timed`)."""
+    NaN for a process's first describe, see :func:`~homebench.evaluation.pair_calls.timed`)."""
 
     features: Any
     describe_ms: float

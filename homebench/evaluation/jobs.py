@@ -5,7 +5,10 @@ and home call themselves, and never raise: a failure comes back as a :class:`Job
 the error text, so the run finishes the other jobs and reports it. Within a job, one image or
 one pair that fails does not sink the others: a describe job describes the rest and then fails
 naming the images; a home job records the pair as a row with an ``error`` and no estimate.
-Feature files (:mod:`~homebench.evaluation.features_io`) are checked before they are reused.
+A home job prepares its pairs (features, the views beyond the two, the compass's turn) and homes
+them: all in one batch call where the method has one, else each as soon as it is prepared
+(:mod:`~homebench.evaluation.pair_calls`, which also says what the times are). Feature files
+(:mod:`~homebench.evaluation.features_io`) are checked before they are reused.
 
 A method entry's ``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is applied
 here, for any method: with ``visual`` or ``truth`` the current view (and the grid neighbours of
@@ -19,21 +22,26 @@ from __future__ import annotations
 import functools
 import json
 import math
-import time
-import traceback
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import cv2
 import numpy as np
 import orjson
 
 from homebench.analysis.metrics import angular_errors
+from homebench.data.database import GridDatabase
 from homebench.errors import DataError, WriteError
 from homebench.evaluation.features_io import StoredFeatures, load_features, save_features
 from homebench.evaluation.grid_routes import method_route
+from homebench.evaluation.pair_calls import (
+    Answer,
+    PairInput,
+    describe_error,
+    home_pairs,
+    timed,
+)
 from homebench.evaluation.plan import (
     DescribeJob,
     HomeJob,
@@ -46,31 +54,12 @@ from homebench.evaluation.records import RESULT_FORMAT, ROW_COLUMNS, JobRecord, 
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import make_folder, write_bytes_atomic
 from homebench.geometry import home_direction, world_to_robot_xy
-from homebench.methods.base import HomingEstimate, gives_direction
+from homebench.methods.base import batch_home, gives_direction
 from homebench.methods.visual_compass import (
     compass_turn,
     in_current_frame,
     whole_columns,
 )
-
-T = TypeVar("T")
-
-#: (method key, "describe" or "home") of the calls this process has made: see :func:`timed`.
-_CALLED: set[tuple[str, str]] = set()
-
-
-def timed(method_key: str, call_kind: str, call: Callable[[], T]) -> tuple[T, float]:
-    """``call()`` and its wall time in ms, or NaN for the first call of a method's
-    ``describe`` or ``home`` in a process: that one holds one-off costs (compiling kernels,
-    importing lazily, first allocations), so the tables' times are the steady-state cost. The
-    call is made once, whatever it costs: a method's answers never depend on being timed."""
-    start = time.perf_counter()
-    result = call()
-    elapsed_ms = 1000.0 * (time.perf_counter() - start)
-    if (method_key, call_kind) in _CALLED:
-        return result, elapsed_ms
-    _CALLED.add((method_key, call_kind))
-    return result, math.nan
 
 
 @dataclass(frozen=True)
@@ -82,13 +71,6 @@ class JobOutcome:
     key: str
     error: str | None = None
     environment: bool = False
-
-
-def describe_error(error: BaseException) -> str:
-    """One line for an exception of a job, image or pair (out of memory said as such)."""
-    if isinstance(error, MemoryError):  # numpy's is a subclass with a private name
-        return f"out of memory (MemoryError: {error})"
-    return "".join(traceback.format_exception_only(type(error), error)).strip()
 
 
 def run_safely(kind: str, key: str, work: Any, *args: Any) -> JobOutcome:
@@ -274,38 +256,78 @@ def _current_features(
     return timed(job.method.key, "describe", lambda: method.describe(view))
 
 
-def _estimate(
+@dataclass(frozen=True)
+class _Prepared:
+    """A pair ready for its home call: its index ``k`` in the job, the compass's ``turn``
+    (radians; None without a compass), the current's ``describe_ms`` and the call's input."""
+
+    k: int
+    turn: float | None
+    describe_ms: float
+    call: PairInput
+
+
+def _prepare(
     job: HomeJob,
     run_dir: Path,
-    task: ImageTask,
+    k: int,
     heading: float,
-    parts: tuple[Any, StoredFeatures, _GridViews, _Compass],
-) -> tuple[HomingEstimate, dict[str, Any]]:
-    """One pair's estimate in the current robot frame and its timings and counts (row fields);
-    with a compass, the method sees the current view (and its neighbours) turned back."""
-    method, goal, views, compass = parts
+    parts: tuple[Any, _GridViews, _Compass],
+) -> _Prepared:
+    """Pair ``k`` ready for its home call: with a compass, the method sees the current view
+    (and its neighbours) turned back."""
+    method, views, compass = parts
+    task = job.currents[k]
     turn = compass.turn(task, heading)
     seen = task if turn is None else replace(task, rotation=task.rotation - turn)
     features, describe_ms = _current_features(job, run_dir, method, seen, turn is not None)
     extra = views.extra(seen, heading - (turn or 0.0))
-    estimate, home_ms = timed(
-        job.method.key, "home", lambda: method.home(features, goal.features, **extra)
-    )
-    return estimate if turn is None else in_current_frame(estimate, turn), {
-        "route_views": len(extra.get("route", ())),
+    return _Prepared(k, turn, describe_ms, PairInput(features, extra))
+
+
+def _answer(pair: _Prepared, answer: Answer, heading: float, goal_ms: float) -> dict[str, Any]:
+    """A pair's row fields of its ``answer`` (estimate or error, home time in ms), in the
+    current robot frame (with a compass, the pair's turn turns the method's answer into it);
+    ``heading``: the current's world heading (radians); ``goal_ms``: the goal's describe time."""
+    estimate, home_ms = answer
+    if isinstance(estimate, str):  # the error its call raised
+        return {"error": estimate}
+    try:
+        if pair.turn is not None:
+            estimate = in_current_frame(estimate, pair.turn)
+        angle = None if estimate.angle is None else float(estimate.angle)
+        fields = {
+            "estimate": angle,
+            "estimate_world": None if angle is None else heading + angle,
+            "rotation_estimate": estimate.rotation,
+            "n_landmarks": int(estimate.n_landmarks),
+            "score": estimate.score,
+        }
+    except Exception as error:  # an answer that is no number: this pair fails
+        return {"error": describe_error(error)}
+    return fields | {
+        "route_views": len(pair.call.extra.get("route", ())),
         "home_ms": home_ms,
-        "describe_ms": describe_ms,
-        "goal_describe_ms": goal.describe_ms,
+        "describe_ms": pair.describe_ms,
+        "goal_describe_ms": goal_ms,
     }
 
 
-def _home(job: HomeJob, run_dir: Path) -> None:
-    method = job.method.create()
+def _pair_rows(
+    job: HomeJob,
+    run_dir: Path,
+    method: Any,
+    databases: tuple[GridDatabase, GridDatabase],
+    goal_heading: float,
+) -> list[dict]:
+    """The rows of the job's pairs (:data:`ROW_COLUMNS`), their answers in the current robot
+    frame: the pairs prepared, then homed (:func:`~.pair_calls.home_pairs`; all in one batch
+    call where the method has one); a pair that fails keeps its row with its ``error``.
+    ``databases``: the current and goal databases."""
     goal = _features(job.goal, run_dir, job)
-    current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
+    current_db, goal_db = databases
     goal_xy = goal_db.grid.position(job.goal.i, job.goal.j)
-    goal_heading = goal_db.heading(job.goal.i, job.goal.j)
-    parts = (method, goal, _GridViews(job, method, run_dir), _Compass(job, goal_heading))
+    parts = (method, _GridViews(job, method, run_dir), _Compass(job, goal_heading))
     # the pairs' geometry at once: headings (n,), positions (n, 2), true directions (n,)
     headings = [current_db.heading(task.i, task.j) + task.rotation for task in job.currents]
     current_xy = current_db.grid.position(
@@ -313,7 +335,9 @@ def _home(job: HomeJob, run_dir: Path) -> None:
     )
     truths = home_direction(current_xy, goal_xy, np.asarray(headings, dtype=np.float64))
     distances = np.hypot(*(goal_xy - current_xy).T)
-    rows, estimates_world = [], np.full(len(job.currents), np.nan)
+    # a method with a batch call homes the job's pairs at once; others each pair once prepared,
+    # so that a job holds one pair's features at a time, as before batch calls
+    batched, rows, pending = batch_home(method) is not None, [], []
     for k, (task, truth, distance) in enumerate(
         zip(job.currents, truths.tolist(), distances.tolist(), strict=True)
     ):
@@ -326,27 +350,29 @@ def _home(job: HomeJob, run_dir: Path) -> None:
             truth=truth,
             distance_m=distance,
         )
+        rows.append(row)
         try:
-            estimate, measured = _estimate(job, run_dir, task, headings[k], parts)
+            pending.append(_prepare(job, run_dir, k, headings[k], parts))
         except Exception as error:  # one failed pair; the job's other pairs go on
             row["error"] = describe_error(error)
-        else:
-            angle = None if estimate.angle is None else float(estimate.angle)
-            if angle is not None:
-                estimates_world[k] = headings[k] + angle
-            row.update(
-                measured,
-                estimate=angle,
-                estimate_world=None if angle is None else float(estimates_world[k]),
-                rotation_estimate=estimate.rotation,
-                n_landmarks=int(estimate.n_landmarks),
-                score=estimate.score,
-            )
-        rows.append(row)
-    errors = angular_errors(estimates_world, current_xy, goal_xy).tolist()
+        if pending and (not batched or k == len(job.currents) - 1):
+            answers = home_pairs(job.method.key, method, goal.features, [p.call for p in pending])
+            for pair, answer in zip(pending, answers, strict=True):
+                rows[pair.k].update(_answer(pair, answer, headings[pair.k], goal.describe_ms))
+            pending = []
+    estimates_world = [np.nan if r["estimate_world"] is None else r["estimate_world"] for r in rows]
+    errors = angular_errors(np.array(estimates_world), current_xy, goal_xy).tolist()
     for row, ae in zip(rows, errors, strict=True):
         if row["error"] is None:
             row["ae"] = None if math.isnan(ae) else ae
+    return rows
+
+
+def _home(job: HomeJob, run_dir: Path) -> None:
+    method = job.method.create()
+    current_db, goal_db = open_source(job.currents[0].source), open_source(job.goal.source)
+    goal_heading = goal_db.heading(job.goal.i, job.goal.j)
+    rows = _pair_rows(job, run_dir, method, (current_db, goal_db), goal_heading)
     record = {
         "format": RESULT_FORMAT,
         "key": job.key,

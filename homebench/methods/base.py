@@ -9,6 +9,7 @@ whose fields are its parameters (with the papers' defaults), registered under a 
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
 
@@ -61,6 +62,13 @@ class HomingMethod(Protocol):
     kernels: importing numba costs a third of a second of CPU) names them in the class
     attribute ``preload_modules`` (a tuple of module names); the worker server of a run with
     the method imports them once, before it forks the workers.
+
+    A method may also answer many current views of one goal at once (optional, see
+    :data:`BatchHome`): ``home_many(currents, goal, **extra)``, where a job's pairs share
+    what depends on the goal alone, or one large array operation replaces many small ones.
+    Its estimates must be those of ``home`` pair by pair, bit for bit; if it raises, the engine
+    asks ``home`` pair by pair, so only a failing pair fails. Without it, the engine calls
+    ``home`` per pair (:func:`home_many` says so for any method).
     """
 
     name: ClassVar[str]
@@ -74,6 +82,32 @@ class HomingMethod(Protocol):
     def home(self, current: Any, goal: Any) -> HomingEstimate:
         """Home direction at the current view towards the goal view, from their features."""
         ...
+
+
+#: ``home_many(currents, goal, **extra)``: the estimates (one per current, in order) of the
+#: current views' features ``currents`` (a sequence of n) towards one goal's; each ``extra``
+#: keyword is a sequence of n, the pair's own argument of ``home`` (``route=``, ...).
+BatchHome = Callable[..., list[HomingEstimate]]
+
+
+def batch_home(method: Any) -> BatchHome | None:
+    """The method's own ``home_many`` (:class:`HomingMethod`), or None when it has none."""
+    return getattr(method, "home_many", None)
+
+
+def home_many(
+    method: Any, currents: Sequence[Any], goal: Any, **extra: Sequence[Any]
+) -> list[HomingEstimate]:
+    """The estimates of ``method`` for the pairs of ``currents`` (n features) and one ``goal``:
+    its ``home_many`` where it has one, else ``home`` pair by pair (``extra``: keyword
+    arguments of ``home``, one sequence of n per keyword)."""
+    batch = batch_home(method)
+    if batch is not None:
+        return batch(currents, goal, **extra)
+    return [
+        method.home(current, goal, **{name: values[k] for name, values in extra.items()})
+        for k, current in enumerate(currents)
+    ]
 
 
 def gives_direction(method: type) -> bool:

@@ -38,6 +38,7 @@ turn within half a psi step.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from typing import ClassVar, Literal
@@ -53,12 +54,13 @@ from homebench.methods.param_types import check_fields
 from homebench.methods.params import documented, param
 from homebench.methods.registry import register
 from homebench.methods.warping_search import (
+    Best,
     GoalScreen,
     SearchGrid,
     all_costs,
     screen_goal,
-    search,
     search_grid,
+    search_many,
 )
 from homebench.methods.warping_search import warp_tables as warp_tables  # shared by warping-2d
 
@@ -176,15 +178,28 @@ class Warping:
         """Home direction beta = alpha - psi + pi at the best (rho, alpha, psi): the argmin of
         :meth:`costs`, found by a float32 screen and exact float64 re-scoring (see
         :mod:`homebench.methods.warping_search`)."""
-        if current.shape != goal.shape or current.shape != (self.n_columns,):
+        return self.home_many([current], goal)[0]
+
+    def home_many(self, currents: Sequence[FloatArray], goal: FloatArray) -> list[HomingEstimate]:
+        """:meth:`home` of each current signal (n_columns,) towards one goal, bit for bit: the
+        screens of a few currents at a time are one matrix product
+        (:func:`~homebench.methods.warping_search.search_many`)."""
+        if any(f.shape != (self.n_columns,) for f in (goal, *currents)):
             raise ValueError(f"warping: features must have shape ({self.n_columns},)")
         screen = self._screen(goal)
-        if screen is None or is_flat(current):
-            return HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
-        ssd = self.distance == "ssd"
-        index, score = search(self._grid, current, goal, screen, ssd)
+        textured = [] if screen is None else [k for k, c in enumerate(currents) if not is_flat(c)]
+        found: dict[int, Best] = {}
+        if screen is not None and textured:
+            signals = np.array([currents[k] for k in textured], dtype=np.float64)  # (K, n)
+            best = search_many(self._grid, signals, goal, screen, self.distance == "ssd")
+            found = dict(zip(textured, best, strict=True))
         shape = (self.n_rho, self.n_alpha, self.n_psi)
-        return estimate_at(index, score, shape, self.rho, self.n_columns)
+        return [
+            estimate_at(*found[k], shape, self.rho, self.n_columns)
+            if k in found
+            else HomingEstimate.none(n_landmarks=self.n_columns, reason="no texture")
+            for k in range(len(currents))
+        ]
 
     @cached_property
     def _grid(self) -> SearchGrid:
