@@ -35,7 +35,7 @@ HOMING = [
     "fourier-warping",
     "block-matching",
 ]
-BUILT_IN = [*HOMING, "visual-compass"]
+BUILT_IN = [*HOMING, "visual-compass", "perfect-memory", "infomax"]
 
 
 def _view(kind: str, image: np.ndarray) -> View:
@@ -126,7 +126,7 @@ def test_all_methods_at_a_corner_goal_fill_the_tables(tmp_path: Path) -> None:
 #: leave empty beside an estimate (no rotation or no score reported).
 _ANSWER = ("estimate", "estimate_world", "ae", "rotation_estimate", "rotation_error")
 #: times: empty for a worker's first call of a method (it holds one-off costs, see
-#: homebench.evaluation.jobs.timed)
+#: homebench.evaluation.pair_calls.timed)
 _TIMES = {"home_ms", "describe_ms", "goal_describe_ms"}
 _NO_ESTIMATE = {f"{name}_{unit}" for name in _ANSWER for unit in ("rad", "deg")} | {
     "score",

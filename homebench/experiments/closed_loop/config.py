@@ -18,6 +18,7 @@ Dispatched on ``kind: closed-loop``. Example (see ``configs/closed_loop.yaml``):
     starts: {spacing: 0.3, region: [0, 0, 2.7, 4.8]}   # a lattice, or {random: 100, seed: 1}
     motion: {step_length: 0.1, max_turn_deg: 30, success_radius: 0.15, budget_factor: 3}
     render: {lattice: 0.02}
+    training: {routes: 8, length_m: 1.5, spacing_m: 0.1}  # route-learning methods' views
 
 Defaults and why:
 
@@ -40,6 +41,12 @@ Defaults and why:
   the goal snapshot); with ``none`` the method sees the view at the robot's own heading.
 - ``render.lattice`` 0.02 m: views are rendered at positions snapped to a 2 cm lattice, below
   the step length, so the snapping moves the camera by at most 1.4 cm.
+- ``training`` (methods that learn a route, ``learns_route``: perfect-memory, infomax): they
+  home by the familiarity of views learnt on ``routes`` straight routes into each goal, 8 from
+  equally spaced directions (the first from straight ahead of the goal's heading), each 1.5 m
+  long (the starts' distances), a view every 0.1 m (the step length) facing the goal, learnt
+  from the far end in: the routes an animal's first trips to a place would leave, the paper's
+  training views (facing the way to go) in every direction a start may lie.
 
 Checks that need the world (goals in free space) happen when the experiment starts.
 """
@@ -51,12 +58,24 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import Discriminator, Field, FiniteFloat, Tag, field_validator, model_validator
+import numpy as np
+from pydantic import (
+    Discriminator,
+    Field,
+    FiniteFloat,
+    SerializerFunctionWrapHandler,
+    Tag,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
 from homebench.bounds import count_problem
-from homebench.config import MethodEntry, UnfoldConfig, _Strict, check_entries, method_points
+from homebench.config import MethodEntry, UnfoldConfig, _Strict, method_points
 from homebench.data.synth.spec import Style, WorldSpec
+from homebench.experiments.memory import check_robot_entries, is_memory_method
 from homebench.experiments.robot import DriftModel, MotionLimits
+from homebench.geometry import Pose, wrap_angle
 from homebench.yamlio import load_model
 
 Control = Literal["truth", "random"]
@@ -183,6 +202,29 @@ class RenderConfig(_Strict):
     memory_views: int = Field(512, ge=0)
 
 
+class TrainingRoutes(_Strict):
+    """What methods that learn a route learn for each goal: ``routes`` straight routes into it
+    from equally spaced directions, ``length_m`` long, a view every ``spacing_m`` metres facing
+    the goal (see the module docstring)."""
+
+    routes: int = Field(8, ge=1)
+    length_m: float = Field(1.5, gt=0)
+    spacing_m: float = Field(0.1, gt=0)
+
+    def poses(self, goal: Pose) -> list[Pose]:
+        """The training poses for ``goal``, in learning order: route by route (ccw from the
+        goal's heading), each from its far end in, facing the goal."""
+        count = math.floor(self.length_m / self.spacing_m + 1e-9)
+        distances = self.spacing_m * np.arange(count, 0, -1)
+        poses = []
+        for r in range(self.routes):
+            away = goal.heading + 2.0 * math.pi * r / self.routes
+            for d in distances:
+                x, y = goal.x + d * math.cos(away), goal.y + d * math.sin(away)
+                poses.append(Pose(float(x), float(y), float(wrap_angle(away + math.pi))))
+        return poses
+
+
 class ClosedLoopConfig(_Strict):
     """A closed-loop homing experiment: a scene, methods and controls, goals, starts, motion."""
 
@@ -204,6 +246,16 @@ class ClosedLoopConfig(_Strict):
     motion: ClosedLoopMotion = ClosedLoopMotion()
     drift: DriftModel = DriftModel()
     render: RenderConfig = RenderConfig()
+    training: TrainingRoutes = TrainingRoutes()
+
+    @model_serializer(mode="wrap")
+    def _omit_unused(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The fields, without ``training`` when no method learns a route (a resolved config,
+        and its hash, as before closed loops had such methods)."""
+        data = handler(self)
+        if not any(is_memory_method(entry.method) for entry in self.methods):
+            data.pop("training", None)
+        return data
 
     @model_validator(mode="after")
     def _checks(self) -> ClosedLoopConfig:
@@ -271,5 +323,5 @@ def load_closed_loop_config(path: Path, overrides: Sequence[str] = ()) -> Closed
     """Read and validate a closed-loop config with ``key.path=value`` ``overrides``; problems
     are ConfigErrors naming file and key. Methods are checked by creating them."""
     config = load_model(ClosedLoopConfig, path, what="config", overrides=overrides)
-    check_entries(path, config.methods, robot="closed-loop")
+    check_robot_entries(path, config.methods, robot="closed-loop")
     return config

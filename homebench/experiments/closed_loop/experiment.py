@@ -36,6 +36,7 @@ from homebench.experiments.closed_loop.loop import run_loop
 from homebench.experiments.closed_loop.starts import Start, free_starts, goal_pose, goal_starts
 from homebench.experiments.closed_loop.tables import TABLES_DIR, write_tables
 from homebench.experiments.closed_loop.views import LatticeViews
+from homebench.experiments.memory import MemoryGuide, is_memory_method
 from homebench.experiments.robot import Robot
 from homebench.experiments.scene import Scene, open_scene
 from homebench.experiments.trials import TrialRunOutcome
@@ -130,6 +131,7 @@ class ClosedLoopJob:
                 "motion": c.motion.model_dump(mode="json"),
                 "drift": c.drift.model_dump(mode="json"),
                 "lattice": _lattice(c),
+                **({"training": c.training.model_dump(mode="json")} if _learns(t) else {}),
             }
         )
 
@@ -202,14 +204,46 @@ def _lattice_views(config: ClosedLoopConfig, style: str, run_dir: Path) -> Latti
     return _views[key]
 
 
-def _homer(job: ClosedLoopJob, seed: int) -> Homer:
-    """The trial's homer: a control, or its method with the goal snapshot rendered and
-    described (once per process, goal and method)."""
+def _learns(trial: Trial) -> bool:
+    """Whether the trial's method learns a route (a control does not)."""
+    return trial.method is not None and is_memory_method(trial.method)
+
+
+_guides: dict[str, MemoryGuide] = {}
+
+
+def _guide(job: ClosedLoopJob, views: LatticeViews) -> MemoryGuide:
+    """A route-learning method trained on the config's training routes into the trial's goal
+    (their poses the scene cannot show left out; once per process, goal and method)."""
+    t, config = job.trial, job.config
+    goal = [t.goal_pose.x, t.goal_pose.y, t.goal_pose.heading]
+    training = config.training.model_dump(mode="json")
+    key = stable_hash([scene_key(config, t.style), config.seed, t.method, t.params, goal, training])
+    if key not in _guides:
+        assert t.method is not None
+        method = registry.create(t.method, **dict(t.params))
+        geometry = views.scene.geometry
+        seen = []
+        for pose in config.training.poses(t.goal_pose):
+            try:
+                seen.append(View(views.see(pose), geometry))
+            except PoseError:
+                continue
+        _guides[key] = MemoryGuide.trained(method, seen, geometry)
+    return _guides[key]
+
+
+def _homer(job: ClosedLoopJob, seed: int, views: LatticeViews) -> Homer:
+    """The trial's homer: a control, a route-learning method trained on the goal's training
+    routes, or its method with the goal snapshot rendered and described (once per process,
+    goal and method)."""
     t, config = job.trial, job.config
     if t.method is None:
         if t.label == "truth":
             return TruthHomer(t.goal_pose)
         return RandomHomer(np.random.default_rng([seed, 1]))
+    if _learns(t):
+        return _guide(job, views)
     method = registry.create(t.method, **dict(t.params))
     scene = trial_scene(config, t.style)
     goal = [t.goal_pose.x, t.goal_pose.y, t.goal_pose.heading]
@@ -227,7 +261,7 @@ def run_trial(job: ClosedLoopJob, run_dir: Path) -> dict[str, Any]:
     t, config = job.trial, job.config
     seed = derived_seed(config.seed, t.name)
     views = _lattice_views(config, t.style, run_dir)
-    homer = _homer(job, seed)
+    homer = _homer(job, seed, views)
     robot = Robot.at(t.start.pose, config.drift, np.random.default_rng([seed, 0]))
     result = run_loop(robot, t.goal_pose, homer, views.see, views.scene.check_pose, config.motion)
     distance = math.dist(t.start.pose.xy, t.goal_pose.xy)

@@ -12,6 +12,7 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
       - name: tour
         waypoints: [[1.7, 1.8], [1.7, 3.8], [4.2, 3.8]]   # metres, world frame; home first
         lengths: [2, 4]                          # one trial per length: the route's first metres
+        displacements_m: [0.0, 0.3]              # optional: homing starts carried off the end
     motion: {step_length: 0.05, max_turn_deg: 10}
     drift: {translation_var: 1.0e-4, heading_bias: 0.01}
     tracker: {max_corners: 150, min_tracks: 100}  # KltTracker parameters
@@ -19,14 +20,21 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
     methods:                                     # grid-config method entries (default:
       - {method: klt-sector}                     #   klt-sector alone)
       - {method: warping, label: warping-fine, params: {n_rho: 40}}
-    pairwise:                                    # every method but klt-sector
+      - {method: infomax}                        # a route-learning method
+    pairwise:                                    # the pairwise methods
       snapshots: {rule: spacing, spacing_m: 0.5} # or {rule: similarity, threshold: 12}
       arrival: {criterion: minimum, patience: 2} # or {criterion: oracle, radius_m: 0.05}
+    familiarity:                                 # the route-learning methods
+      near_home_m: 1.0                           # arrival watched this near home (odometry)
+      probes: {spacing_m: 0.5, offsets_m: [-0.5, 0, 0.5]}   # heading field beside the route
     success_radius_m: 0.1                        # success: the final position this near home
 
 ``klt-sector`` keeps seed 000's own route homing (KLT tracking on the way out, intermediate
 positions from the feature life-cycles, the sector law; set by ``tracker`` and ``homing``, so its
-entry takes no ``params``). Every other method homes through snapshots
+entry takes no ``params``). Methods that learn a route (``learns_route``: perfect-memory,
+infomax) learn every outbound view and follow their memory home
+(:mod:`~homebench.experiments.route.familiar`, set by ``familiarity``); they take no
+``compass``. Every other method homes through snapshots
 (:mod:`~homebench.experiments.route.pairwise`, set by ``pairwise``). It must be pairwise (no
 grid neighbours, like DID) and work on unfolded panoramas, which is what the scene renders
 (``sift-unfolded`` for the SIFT family).
@@ -55,10 +63,12 @@ from pydantic import (
 )
 
 from homebench.bounds import count_problem
-from homebench.config import ALIAS, MethodEntry, UnfoldConfig, entry_error, method_points
+from homebench.config import ALIAS, MethodEntry, UnfoldConfig, method_points
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
+from homebench.experiments.memory import is_memory_method, robot_entry_error
 from homebench.experiments.robot import DriftModel, MotionLimits
+from homebench.experiments.route.familiar import FamiliarityParams
 from homebench.experiments.route.pairwise import PairwiseParams
 from homebench.experiments.route.visual import VisualHomingParams
 from homebench.methods.klt_tracking import KltTracker
@@ -81,7 +91,10 @@ class RouteSpec(_Strict):
 
     ``heading_deg``: the robot's heading at home (default: along the first segment).
     ``lengths`` (metres): one trial per length, driving the route's first metres; default: one
-    trial over the whole route. ``repeats``: trials per length, each with its own noise.
+    trial over the whole route. ``displacements_m``: one trial per value, the robot carried
+    that many metres to the left (negative: right) of the route's last segment before it
+    homes, its odometry not told (default: it homes from the route's end). ``repeats``:
+    trials per length and displacement, each with its own noise.
     """
 
     name: str
@@ -89,6 +102,7 @@ class RouteSpec(_Strict):
     frame: Literal["world", "grid"] = "world"
     heading_deg: FiniteFloat | None = None
     lengths: list[Annotated[float, Field(gt=0)]] | None = None
+    displacements_m: list[FiniteFloat] | None = Field(None, min_length=1)
     repeats: int = Field(1, ge=1)
 
     @field_validator("name")
@@ -102,6 +116,15 @@ class RouteSpec(_Strict):
     def length(self) -> float:
         """Length of the whole route, metres."""
         return float(np.sum(np.hypot(*np.diff(np.asarray(self.waypoints), axis=0).T)))
+
+    @model_serializer(mode="wrap")
+    def _omit_displacements(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """The fields, without ``displacements_m`` when not given (a resolved config, and its
+        hash, as before routes had displacements)."""
+        data = handler(self)
+        if self.displacements_m is None:
+            data.pop("displacements_m", None)
+        return data
 
     @model_validator(mode="after")
     def _lengths_fit(self) -> RouteSpec:
@@ -122,6 +145,11 @@ class RouteSpec(_Strict):
 
     def trial_lengths(self) -> list[float]:
         return list(self.lengths) if self.lengths else [self.length]
+
+    @property
+    def trials_per_repeat(self) -> int:
+        """Trials of one repeat: lengths x displacements."""
+        return len(self.trial_lengths()) * len(self.displacements_m or [None])
 
     @property
     def heading(self) -> float:
@@ -154,6 +182,7 @@ class RouteConfig(_Strict):
         default_factory=lambda: [MethodEntry(method=KLT_SECTOR)], min_length=1
     )
     pairwise: PairwiseParams = PairwiseParams()
+    familiarity: FamiliarityParams = FamiliarityParams()
     success_radius_m: float = Field(0.1, gt=0)
 
     @model_validator(mode="after")
@@ -185,12 +214,14 @@ class RouteConfig(_Strict):
 
     @model_serializer(mode="wrap")
     def _omit_unused(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """The fields, without ``pairwise`` when no method uses it and without ``methods`` and
-        ``success_radius_m`` when not given: a klt-sector run's resolved config (and its hash)
-        is the same as before route runs had other methods."""
+        """The fields, without ``pairwise`` and ``familiarity`` when no method uses them and
+        without ``methods`` and ``success_radius_m`` when not given: a klt-sector run's
+        resolved config (and its hash) is the same as before route runs had other methods."""
         data = handler(self)
-        if all(name == KLT_SECTOR for _, name, _ in self.method_points()):
-            data.pop("pairwise", None)
+        kinds = {_kind(name) for _, name, _ in self.method_points()}
+        for kind in ("pairwise", "familiarity"):
+            if kind not in kinds:
+                data.pop(kind, None)
         for name in ("methods", "success_radius_m"):
             if name not in self.model_fields_set:
                 data.pop(name, None)
@@ -199,11 +230,12 @@ class RouteConfig(_Strict):
     def _count_problem(self) -> str:
         """Why the run would hold more trials than one run can (every route's lengths x repeats
         x the methods), naming the counts of the route with the most; "" when it would not."""
-        trials = [len(route.trial_lengths()) * route.repeats for route in self.routes]
+        trials = [route.trials_per_repeat * route.repeats for route in self.routes]
         k = trials.index(max(trials))
         counts = {
             f"routes[{k}].repeats": self.routes[k].repeats,
             f"routes[{k}].lengths": len(self.routes[k].trial_lengths()),
+            f"routes[{k}].displacements_m": len(self.routes[k].displacements_m or [None]),
             "methods": sum(entry.n_points for entry in self.methods),
         }
         return count_problem(counts, "trials", total=sum(trials) * counts["methods"])
@@ -223,6 +255,14 @@ class RouteConfig(_Strict):
         return KltTracker(**self.tracker)
 
 
+def _kind(name: str) -> str:
+    """How a route run homes with method ``name``: ``klt-sector`` (its own route homing),
+    ``familiarity`` (a route-learning method follows its memory) or ``pairwise``."""
+    if name == KLT_SECTOR:
+        return KLT_SECTOR
+    return "familiarity" if is_memory_method(name) else "pairwise"
+
+
 def _method_problem(k: int, entry: MethodEntry) -> str:
     """Why a route run cannot home with ``entry``, its ``k``-th method entry, naming the key
     ("" when it can)."""
@@ -233,7 +273,7 @@ def _method_problem(k: int, entry: MethodEntry) -> str:
                 "'homing'; its entry takes no params, grid or compass"
             )
         return ""
-    return entry_error(k, entry, robot="route")
+    return robot_entry_error(k, entry, robot="route")
 
 
 def load_route_config(path: Path, overrides: Sequence[str] = ()) -> RouteConfig:

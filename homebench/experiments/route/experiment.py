@@ -28,6 +28,7 @@ frame, last frame), a pairwise method's ``snapshots`` (frames, ascending).
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 import math
 import time
@@ -46,8 +47,10 @@ from homebench.evaluation.jobs import JobOutcome, run_safely
 from homebench.evaluation.plan import COMPASS_METHOD
 from homebench.evaluation.runner import run_parallel, write_run_metadata
 from homebench.experiments.homing import MethodHomer
+from homebench.experiments.memory import MemoryGuide, facing, is_memory_method
 from homebench.experiments.robot import Robot, dead_reckon
 from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
+from homebench.experiments.route.familiar import follow_home
 from homebench.experiments.route.lifecycle import TargetSelectionError, select_targets
 from homebench.experiments.route.outbound import (
     as_array,
@@ -57,7 +60,8 @@ from homebench.experiments.route.outbound import (
     path_length,
     route_prefix,
 )
-from homebench.experiments.route.pairwise import Target, grey, home_pairwise
+from homebench.experiments.route.pairwise import PairwiseHoming, Target, grey, home_pairwise
+from homebench.experiments.route.probes import catchment, plan_probes, probe_route, probe_tables
 from homebench.experiments.route.snapshots import SnapshotRule, similarity_frames, spacing_frames
 from homebench.experiments.route.visual import home_visually
 from homebench.experiments.scene import Camera, Scene, open_scene
@@ -73,23 +77,40 @@ from homebench.views import View
 ROUTE_FORMAT = 1
 ROUTES_DIR = "routes"
 TABLE_PATH = Path("tables") / "routes.csv"
+#: The route-learning methods' probes (:mod:`~.probes`): one row per probe, per distance.
+PROBES_PATH = Path("tables") / "route_probes.csv"
+CATCHMENT_PATH = Path("tables") / "route_catchment.csv"
 #: Spacing (metres) of the free-space checks along a route.
 CHECK_SPACING = 0.01
 
 
 @dataclass(frozen=True)
 class RouteTrial:
-    """One route driven for ``length`` metres: its ``waypoints`` (k, 2) and home ``heading``."""
+    """One route driven for ``length`` metres: its ``waypoints`` (k, 2) and home ``heading``;
+    ``displacement``: metres to the left of the last segment by which the robot is carried
+    before it homes (None: no displacement planned, it homes from the route's end)."""
 
     name: str
     route: str
     length: float
     waypoints: tuple[tuple[float, float], ...]
     heading: float
+    displacement: float | None = None
 
     @property
     def home(self) -> Pose:
         return Pose(*self.waypoints[0], self.heading)
+
+    def homing_start(self, end: Pose) -> Pose:
+        """Where homing starts: the route's true ``end`` moved ``displacement`` metres to the
+        left of the last segment, heading unchanged (a passive displacement: the odometry is
+        not told, as in the displacement experiments with ants)."""
+        if not self.displacement:
+            return end
+        (x0, y0), (x1, y1) = self.waypoints[-2:]
+        left = math.atan2(y1 - y0, x1 - x0) + math.pi / 2
+        d = self.displacement
+        return Pose(end.x + d * math.cos(left), end.y + d * math.sin(left), end.heading)
 
 
 def world_routes(config: RouteConfig) -> list[RouteSpec]:
@@ -107,18 +128,22 @@ def world_routes(config: RouteConfig) -> list[RouteSpec]:
 def plan_trials(config: RouteConfig) -> list[RouteTrial]:
     """Every (route, length, repeat) of the config, in order.
 
-    Names: the route's, then ``-<length>m`` when it has ``lengths``, then ``-r<k>`` when it
-    has ``repeats`` > 1.
+    Names: the route's, then ``-<length>m`` when it has ``lengths``, then ``-d<metres>m`` when
+    it has ``displacements_m``, then ``-r<k>`` when it has ``repeats`` > 1.
     """
     trials = []
     for route in world_routes(config):
-        for length in route.trial_lengths():
+        displacements = route.displacements_m or [None]
+        for length, displacement in itertools.product(route.trial_lengths(), displacements):
             points = route_prefix(route.waypoints, length)
             waypoints = tuple((float(x), float(y)) for x, y in points)
             name = route.name if route.lengths is None else f"{route.name}-{length:g}m"
+            name += "" if displacement is None else f"-d{displacement:g}m"
             for k in range(route.repeats):
                 full = name if route.repeats == 1 else f"{name}-r{k}"
-                trials.append(RouteTrial(full, route.name, length, waypoints, route.heading))
+                trials.append(
+                    RouteTrial(full, route.name, length, waypoints, route.heading, displacement)
+                )
     return trials
 
 
@@ -150,13 +175,14 @@ class RouteJob:
 
     @property
     def key(self) -> str:
-        c = self.config
+        c, t = self.config, self.trial
         name, params = self.method
         decides = {
             "format": ROUTE_FORMAT,
             "scene": c.scene_key(),
             "seed": c.seed,
             "trial": [self.trial.name, self.trial.waypoints, self.trial.heading],
+            **({} if t.displacement is None else {"displacement": t.displacement}),
             "motion": c.motion.model_dump(mode="json"),
             "drift": c.drift.model_dump(mode="json"),
         }
@@ -170,7 +196,11 @@ class RouteJob:
                     if self.compass != "none"
                     else {}
                 ),
-                "pairwise": c.pairwise.model_dump(mode="json"),
+                **(
+                    {"familiarity": c.familiarity.model_dump(mode="json")}
+                    if is_memory_method(name)
+                    else {"pairwise": c.pairwise.model_dump(mode="json")}
+                ),
             }
         return stable_hash(decides)
 
@@ -188,18 +218,30 @@ def route_jobs(config: RouteConfig) -> list[RouteJob]:
 
 
 def check_routes(config: RouteConfig, scene: Scene, config_path: Path) -> None:
-    """ConfigError naming the route unless the scene can show every point along it."""
+    """ConfigError naming the route unless the scene can show every point along it and every
+    displaced homing start (placed from the planned end of its trial's route)."""
+    index = {route.name: k for k, route in enumerate(config.routes)}
     for k, route in enumerate(config.routes):
         points = np.asarray(route.in_world(scene.grid_origin).waypoints, dtype=np.float64)
         for a, b in zip(points[:-1], points[1:], strict=True):
             n = max(1, math.ceil(math.dist(a, b) / CHECK_SPACING))
             for x, y in a + np.linspace(0.0, 1.0, n + 1)[:, None] * (b - a):
-                try:
-                    scene.check_pose(Pose(float(x), float(y)))
-                except PoseError as error:
-                    raise ConfigError(
-                        f"{config_path}: routes[{k}] ({route.name}): {error}"
-                    ) from None
+                where = f"{config_path}: routes[{k}] ({route.name})"
+                _check_pose(scene, Pose(float(x), float(y)), where)
+    for trial in plan_trials(config):
+        if trial.displacement:
+            start = trial.homing_start(Pose(*trial.waypoints[-1]))
+            route = f"routes[{index[trial.route]}] ({trial.route})"
+            where = f"{config_path}: {route}: trial {trial.name}'s homing start"
+            _check_pose(scene, start, where)
+
+
+def _check_pose(scene: Scene, pose: Pose, where: str) -> None:
+    """ConfigError starting with ``where`` unless the scene can show ``pose``."""
+    try:
+        scene.check_pose(pose)
+    except PoseError as error:
+        raise ConfigError(f"{where}: {error}") from None
 
 
 def _degrees_error(heading: float, truth: float) -> float:
@@ -232,11 +274,19 @@ def _visual_summary(poses: list[Pose], home: Pose, status: str, legs: int) -> di
     }
 
 
+def _homing_robot(config: RouteConfig, trial: RouteTrial, driver: Robot, stream: int) -> Robot:
+    """A robot at the trial's homing start (the route's end, or displaced from it) with the
+    driver's odometry, its noise from random stream ``stream`` of the trial."""
+    rng = np.random.default_rng([derived_seed(config.seed, trial.name), stream])
+    return Robot(trial.homing_start(driver.pose), driver.odometry, config.drift, rng)
+
+
 def _odometry_baseline(
-    config: RouteConfig, driver: Robot, home: Pose, seed: int
+    config: RouteConfig, trial: RouteTrial, driver: Robot
 ) -> tuple[dict[str, Any], dict[str, Any]]:
-    """Dead reckoning home from the driver's end pose: its summary columns and its arrays."""
-    odometry = Robot(driver.pose, driver.odometry, config.drift, np.random.default_rng([seed, 2]))
+    """Dead reckoning home from the homing start: its summary columns and its arrays."""
+    home = trial.home
+    odometry = _homing_robot(config, trial, driver, 2)
     odometry_poses, belief = dead_reckon(odometry, home, config.motion)
     summary = {
         "odometry_error_m": math.dist(odometry.pose.xy, home.xy),
@@ -262,6 +312,15 @@ def _record_head(trial: RouteTrial, label: str) -> dict[str, Any]:
     }
 
 
+def _summary_head(trial: RouteTrial, label: str, driven: FloatArray) -> dict[str, Any]:
+    """The first columns of a trial's summary: trial, method, route, lengths, displacement
+    (when the route plans displacements)."""
+    head = {"trial": trial.name, "method": label, "route": trial.route, "length_m": trial.length}
+    if trial.displacement is not None:
+        head["displacement_m"] = trial.displacement
+    return {**head, "driven_m": path_length(driven), "frames": len(driven)}
+
+
 def run_trial(config: RouteConfig, trial: RouteTrial, label: str = KLT_SECTOR) -> dict[str, Any]:
     """Drive, track, home visually (klt-sector, the entry ``label``) and by odometry; the
     trial's record (JSON-ready)."""
@@ -277,7 +336,7 @@ def run_trial(config: RouteConfig, trial: RouteTrial, label: str = KLT_SECTOR) -
     outbound_s = time.perf_counter() - started
     lifecycles = outbound.log.lifecycles()
 
-    visual = Robot(driver.pose, driver.odometry, config.drift, np.random.default_rng([seed, 1]))
+    visual = _homing_robot(config, trial, driver, 1)
     try:
         targets = select_targets(lifecycles, outbound.end, config.homing.min_shared)
         homing = home_visually(
@@ -288,14 +347,9 @@ def run_trial(config: RouteConfig, trial: RouteTrial, label: str = KLT_SECTOR) -
     except TargetSelectionError as error:
         targets, status, poses, legs, note = [], "no_targets", [visual.pose], [], str(error)
     homing_s = time.perf_counter() - started - outbound_s
-    odometry, odometry_arrays = _odometry_baseline(config, driver, home, seed)
+    odometry, odometry_arrays = _odometry_baseline(config, trial, driver)
     summary = {
-        "trial": trial.name,
-        "method": label,
-        "route": trial.route,
-        "length_m": trial.length,
-        "driven_m": path_length(outbound.poses),
-        "frames": len(outbound.images),
+        **_summary_head(trial, label, outbound.poses),
         "features": len(lifecycles),
         "features_home": len(outbound.log.frames[0][0]),
         "min_shared": config.homing.min_shared,
@@ -341,6 +395,64 @@ def _homer(method: Any, compass: CompassMode, snapshot: View, pose: Pose) -> Met
     return MethodHomer(method, features, snapshot.geometry, compass, pose.heading, snapshot)
 
 
+@dataclass(frozen=True)
+class _Drive:
+    """A trial's outbound drive for the followers: the ``driver`` at the route's end, true
+    ``poses`` and odometry ``belief`` (n, 3), and when it started."""
+
+    driver: Robot
+    poses: FloatArray
+    belief: FloatArray
+    started: float
+
+
+def _drive(config: RouteConfig, trial: RouteTrial) -> _Drive:
+    seed = derived_seed(config.seed, trial.name)
+    started = time.perf_counter()
+    driver = Robot.at(trial.home, config.drift, np.random.default_rng([seed, 0]))
+    poses, belief = drive_route(driver, trial.waypoints, config.motion)
+    return _Drive(driver, poses, belief, started)
+
+
+def _follower_record(
+    job: RouteJob, drive: _Drive, homing: PairwiseHoming, frames: list[int],
+    visits: list[int], outbound_s: float, **extra: Any,
+) -> dict[str, Any]:  # fmt: skip
+    """The record of a trial homed through stored views (pairwise snapshots or a route
+    memory's training views: their ``frames``, the targets in visiting order ``visits``);
+    ``extra``: more summary columns (``columns``) and record fields."""
+    trial, label = job.trial, job.label
+    homing_s = time.perf_counter() - drive.started - outbound_s
+    odometry, odometry_arrays = _odometry_baseline(job.config, trial, drive.driver)
+    summary = {
+        **_summary_head(trial, label, drive.poses),
+        "features": None,  # klt-sector's columns, none here
+        "features_home": None,
+        "min_shared": None,
+        "snapshots": len(frames),
+        "n_intermediate": len(visits) - 1,
+        **_visual_summary(homing.poses, trial.home, homing.status, len(homing.legs)),
+        **odometry,
+        **extra.pop("columns", {}),
+    }
+    record = {
+        **_record_head(trial, label),
+        "outbound": drive.poses.tolist(),
+        "outbound_odometry": drive.belief.tolist(),
+        "snapshots": frames,
+        "targets": visits,
+        "intermediate": visits[:-1],
+        "homing": as_array(homing.poses).tolist(),
+        "legs": homing.legs_as_dicts(),
+        **odometry_arrays,
+        "note": "",
+        **extra,
+        "summary": summary,
+        "timing": {"outbound_s": outbound_s, "homing_s": homing_s},
+    }
+    return _finite(record)
+
+
 def run_pairwise_trial(config: RouteConfig, trial: RouteTrial, label: str) -> dict[str, Any]:
     """Drive, store snapshots, home through them with the pairwise method of entry ``label``
     and by odometry; the trial's record (JSON-ready)."""
@@ -349,63 +461,81 @@ def run_pairwise_trial(config: RouteConfig, trial: RouteTrial, label: str) -> di
     method = registry.create(name, **params)
     seed = derived_seed(config.seed, trial.name)
     scene = route_scene(config)
-    home = trial.home
-    started = time.perf_counter()
-    driver = Robot.at(home, config.drift, np.random.default_rng([seed, 0]))
-    poses, belief = drive_route(driver, trial.waypoints, config.motion)
+    drive = _drive(config, trial)
     rule = config.pairwise.snapshots
-    frames, images = snapshot_frames(poses, belief, scene.camera(seed, "outbound"), rule)
+    camera = scene.camera(seed, "outbound")
+    frames, images = snapshot_frames(drive.poses, drive.belief, camera, rule)
     targets = [
         Target(
             k, images[k], _homer(method, job.compass, View(images[k], scene.geometry), pose), pose
         )
         for k in reversed(frames)
-        for pose in [as_pose(poses[k])]
+        for pose in [as_pose(drive.poses[k])]
     ]
-    outbound_s = time.perf_counter() - started
-    visual = Robot(driver.pose, driver.odometry, config.drift, np.random.default_rng([seed, 1]))
+    outbound_s = time.perf_counter() - drive.started
+    visual = _homing_robot(config, trial, drive.driver, 1)
     homing = home_pairwise(
-        visual, targets, scene.camera(seed, "homing"), config.motion,
-        config.pairwise,
-    )  # fmt: skip
-    homing_s = time.perf_counter() - started - outbound_s
-    odometry, odometry_arrays = _odometry_baseline(config, driver, home, seed)
+        visual, targets, scene.camera(seed, "homing"), config.motion, config.pairwise
+    )
     visits = [target.frame for target in targets]
-    summary = {
-        "trial": trial.name,
-        "method": label,
-        "route": trial.route,
-        "length_m": trial.length,
-        "driven_m": path_length(poses),
-        "frames": len(poses),
-        "features": None,  # klt-sector's columns, none here
-        "features_home": None,
-        "min_shared": None,
-        "snapshots": len(frames),
-        "n_intermediate": len(frames) - 1,
-        **_visual_summary(homing.poses, home, homing.status, len(homing.legs)),
-        **odometry,
+    return _follower_record(job, drive, homing, frames, visits, outbound_s)
+
+
+def run_memory_trial(config: RouteConfig, trial: RouteTrial, label: str) -> dict[str, Any]:
+    """Drive, learn every outbound view facing home, follow the memory of the route-learning
+    method of entry ``label`` home (:mod:`~.familiar`), probe its heading field when the
+    config asks (:mod:`~.probes`), and home by odometry; the trial's record (JSON-ready)."""
+    job = RouteJob(config, trial, label)
+    name, params = job.method
+    method = registry.create(name, **params)
+    seed = derived_seed(config.seed, trial.name)
+    scene = route_scene(config)
+    geometry = scene.geometry
+    drive = _drive(config, trial)
+    camera = scene.camera(seed, "outbound")
+    images = [grey(camera(as_pose(pose), k)) for k, pose in enumerate(drive.poses)]
+    guide = MemoryGuide.trained(method, [facing(i, geometry, math.pi) for i in images], geometry)
+    homer = MethodHomer(method, method.describe(View(images[0], geometry)), geometry)
+    home = Target(0, images[0], homer, trial.home)
+    outbound_s = time.perf_counter() - drive.started
+    visual = _homing_robot(config, trial, drive.driver, 1)
+    follow = config.familiarity
+    homing = follow_home(
+        visual, guide, home, scene.camera(seed, "homing"), config.motion, follow,
+        len(images), (trial.home.x, trial.home.y),
+    )  # fmt: skip
+    extra = {} if follow.probes is None else _probes(job, drive, guide, scene)
+    frames = list(range(len(images)))
+    return _follower_record(job, drive, homing, frames, [0], outbound_s, **extra)
+
+
+def _probes(job: RouteJob, drive: _Drive, guide: MemoryGuide, scene: Scene) -> dict[str, Any]:
+    """The probe rows of a memory trial (record field ``probes``) and its summary columns:
+    the median error on the route and the catchment."""
+    spec = job.config.familiarity.probes
+    assert spec is not None
+    seed = derived_seed(job.config.seed, job.trial.name)
+    probes = plan_probes(drive.poses, spec, derived_seed(seed, "probes"))
+    camera = scene.camera(seed, "probes")
+    rows = probe_route(probes, camera, guide.method, guide.memory, scene.geometry)
+    reach, table = catchment(rows, spec.threshold_deg)
+    on_route = next((entry for entry in table if entry["distance_m"] == 0), None)
+    columns = {
+        "probe_error_on_route_deg": None if on_route is None else on_route["median_error_deg"],
+        "catchment_m": reach,
     }
-    record = {
-        **_record_head(trial, label),
-        "outbound": poses.tolist(),
-        "outbound_odometry": belief.tolist(),
-        "snapshots": frames,
-        "targets": visits,
-        "intermediate": visits[:-1],
-        "homing": as_array(homing.poses).tolist(),
-        "legs": homing.legs_as_dicts(),
-        **odometry_arrays,
-        "note": "",
-        "summary": summary,
-        "timing": {"outbound_s": outbound_s, "homing_s": homing_s},
-    }
-    return _finite(record)
+    return {"columns": columns, "probes": rows, "catchment": table}
 
 
 def _run_and_write(job: RouteJob, run_dir: Path) -> None:
     name, _ = job.method
-    run = run_trial if name == KLT_SECTOR else run_pairwise_trial
+    run = (
+        run_trial
+        if name == KLT_SECTOR
+        else run_memory_trial
+        if is_memory_method(name)
+        else run_pairwise_trial
+    )
     record = {"key": job.key, **run(job.config, job.trial, job.label)}
     path = job.result_path(run_dir)
     make_folder(path.parent)
@@ -451,6 +581,10 @@ def run_route_experiment(
     table_path = run_dir / TABLE_PATH
     table_path.parent.mkdir(parents=True, exist_ok=True)
     write_text_atomic(table_path, table.to_csv(index=False))
+    probes, distances = probe_tables([r for r in records if r is not None])
+    for path, frame in ((PROBES_PATH, probes), (CATCHMENT_PATH, distances)):
+        if not frame.empty:
+            write_text_atomic(run_dir / path, frame.to_csv(index=False))
     failures = tuple(outcome for outcome in outcomes if outcome.error)
     return TrialRunOutcome(run_dir, table, table_path, len(todo), len(plan) - len(todo), failures)
 

@@ -49,6 +49,8 @@ from homebench.methods.base import HomingEstimate
 LegStatus = Literal["reached", "lost", "steps", "collision"]
 #: The robot's eyes: the unfolded panorama at a pose as frame k (the scene's camera).
 Look = Callable[[Pose, int], NDArray[np.uint8]]
+#: What steers a leg: the estimate from the grey view seen at a true pose.
+Steer = Callable[[Pose, NDArray[np.uint8]], HomingEstimate]
 
 
 class Arrival(BaseModel):
@@ -64,19 +66,25 @@ class Arrival(BaseModel):
     radius_m: float = Field(0.05, gt=0)
 
 
-class PairwiseParams(BaseModel):
-    """Route homing with a pairwise method: the ``snapshots`` rule, the ``arrival`` criterion,
-    ``max_leg_steps``, ``max_no_estimate`` (steps without a direction in a row before a leg is
-    lost), ``return_to_best`` and ``align`` on the home leg (see the module docstring)."""
+class FollowParams(BaseModel):
+    """What every route follower shares: the ``arrival`` criterion, ``max_no_estimate`` (steps
+    without a direction in a row before a leg is lost), ``return_to_best`` and ``align`` at
+    home (see the module docstring)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    snapshots: SnapshotRule = SnapshotRule()
     arrival: Arrival = Arrival()
-    max_leg_steps: int = Field(200, ge=1)
     max_no_estimate: int = Field(5, ge=1)
     return_to_best: bool = True
     align: bool = True
+
+
+class PairwiseParams(FollowParams):
+    """Route homing with a pairwise method: the ``snapshots`` rule, ``max_leg_steps`` and the
+    follower's parameters (:class:`FollowParams`)."""
+
+    snapshots: SnapshotRule = SnapshotRule()
+    max_leg_steps: int = Field(200, ge=1)
 
 
 @dataclass(frozen=True)
@@ -127,7 +135,7 @@ def grey(image: NDArray[np.uint8]) -> NDArray[np.uint8]:
     return image if image.ndim == 2 else np.mean(image, axis=2).astype(np.uint8)
 
 
-class _Leg:
+class LegRun:
     """The running state of one leg: steps, the best view distance and where it was seen."""
 
     def __init__(self, target: Target, robot: Robot) -> None:
@@ -154,6 +162,55 @@ class _Leg:
         )
 
 
+def take_view(look: Look, robot: Robot, result: PairwiseHoming) -> NDArray[np.uint8] | None:
+    """The robot's grey view at its pose as the next frame, or None where the scene cannot
+    show it (a collision)."""
+    try:
+        return grey(look(robot.pose, len(result.poses) - 1))
+    except PoseError:
+        return None
+
+
+def drive_leg(
+    robot: Robot,
+    leg: LegRun,
+    steer_by: Steer,
+    look: Look,
+    limits: MotionLimits,
+    params: FollowParams,
+    max_steps: int,
+    result: PairwiseHoming,
+    image: NDArray[np.uint8] | None,
+    may_arrive: Callable[[Robot], bool] = lambda robot: True,
+) -> tuple[LegStatus, NDArray[np.uint8] | None]:
+    """Steer by ``steer_by`` towards ``leg``'s target until it is reached, lost, out of steps
+    or in collision; its status and the last view. Arrival is watched only at poses where
+    ``may_arrive`` (the view distances before do not count). ``image``: the view at the
+    robot's pose; poses go to ``result``."""
+    moved = False
+    while True:
+        if image is None:
+            return "collision", image
+        distance = view_distance(image, leg.target.image) if may_arrive(robot) else None
+        if distance is not None and leg.saw(distance, robot, moved, params.arrival):
+            return "reached", image
+        if leg.steps == max_steps:
+            return "steps", image
+        estimate = steer_by(robot.pose, image)
+        if estimate.angle is None:
+            leg.without += 1
+            if leg.without >= params.max_no_estimate:
+                return "lost", image
+            direction = 0.0
+        else:
+            leg.without, direction = 0, float(estimate.angle)
+        command = steer(direction, limits.step_length, limits)
+        robot.execute(command)
+        moved, leg.steps = command.forward > 0, leg.steps + 1
+        result.poses.append(robot.pose)
+        image = take_view(look, robot, result)
+
+
 def home_pairwise(
     robot: Robot,
     targets: list[Target],
@@ -164,55 +221,27 @@ def home_pairwise(
     """Home from the robot's pose through ``targets`` (visiting order, home last) with the
     targets' homers (a pairwise method each); ``look`` frames numbered from 0."""
     result = PairwiseHoming([robot.pose])
-
-    def take() -> NDArray[np.uint8] | None:
-        try:
-            return grey(look(robot.pose, len(result.poses) - 1))
-        except PoseError:
-            return None
-
-    image = take()
+    image = take_view(look, robot, result)
     for k, target in enumerate(targets):
-        leg, moved = _Leg(target, robot), False
-        while True:
-            if image is None:
-                status: LegStatus = "collision"
-                break
-            if leg.saw(view_distance(image, target.image), robot, moved, params.arrival):
-                status = "reached"
-                break
-            if leg.steps == params.max_leg_steps:
-                status = "steps"
-                break
-            estimate: HomingEstimate = target.homer.estimate(robot.pose, image)
-            if estimate.angle is None:
-                leg.without += 1
-                if leg.without >= params.max_no_estimate:
-                    status = "lost"
-                    break
-                direction = 0.0
-            else:
-                leg.without, direction = 0, float(estimate.angle)
-            command = steer(direction, limits.step_length, limits)
-            robot.execute(command)
-            moved, leg.steps = command.forward > 0, leg.steps + 1
-            result.poses.append(robot.pose)
-            image = take()
-        home = k == len(targets) - 1
-        if status == "reached" and home:
-            _settle(robot, leg, look, limits, params, result)
+        leg = LegRun(target, robot)
+        steer_by = target.homer.estimate
+        status, image = drive_leg(
+            robot, leg, steer_by, look, limits, params, params.max_leg_steps, result, image
+        )
+        if status == "reached" and k == len(targets) - 1:
+            settle(robot, leg, look, limits, params, result)
         result.legs.append(leg.result(status, robot))
         if status != "reached":
             return result
     return result
 
 
-def _settle(
+def settle(
     robot: Robot,
-    leg: _Leg,
+    leg: LegRun,
     look: Look,
     limits: MotionLimits,
-    params: PairwiseParams,
+    params: FollowParams,
     result: PairwiseHoming,
 ) -> None:
     """At home: back to the best view's odometry pose, then turn by the rotation estimate."""
@@ -220,11 +249,8 @@ def _settle(
         best = leg.best_odometry
         for _ in drive_to(robot, (best.x, best.y), limits, by_odometry=True):
             result.poses.append(robot.pose)
-    if not params.align:
-        return
-    try:
-        image = grey(look(robot.pose, len(result.poses) - 1))
-    except PoseError:
+    image = take_view(look, robot, result) if params.align else None
+    if image is None:
         return
     estimate = leg.target.homer.estimate(robot.pose, image)
     if estimate.rotation is not None:

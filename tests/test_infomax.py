@@ -1,0 +1,89 @@
+"""Infomax on constructed inputs: the initial weights, one learning step by hand, the scan, a
+one-view memory as a compass, and its failure modes."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from homebench.errors import ConfigError
+from homebench.methods.infomax import Infomax
+
+N_COLUMNS = 36
+COLUMN = 2.0 * math.pi / N_COLUMNS
+
+
+def test_start_weights_are_seeded_and_each_unit_has_mean_0_and_sd_1() -> None:
+    weights = Infomax(seed=3).start_weights(40)
+    assert weights.shape == (40, 40)  # as many units as inputs by default
+    assert np.allclose(weights.mean(axis=1), 0.0) and np.allclose(weights.std(axis=1), 1.0)
+    assert np.array_equal(weights, Infomax(seed=3).start_weights(40))
+    assert not np.array_equal(weights, Infomax(seed=4).start_weights(40))
+    assert Infomax(hidden_units=5).start_weights(40).shape == (5, 40)
+
+
+def test_one_view_changes_the_weights_by_the_infomax_rule_written_out() -> None:
+    """Element by element: W_ij += eta / N * (W_ij - (y_i + h_i) * sum_k h_k W_kj), with
+    h = W x and y = tanh(h), for a (1, 3) view and two units."""
+    method = Infomax(hidden_units=2, learning_rate=0.5, image_size=(3, 1))
+    x = np.array([0.2, 0.9, 0.4])
+    w = method.start_weights(3)
+    h = [sum(w[i, j] * x[j] for j in range(3)) for i in range(2)]
+    back = [sum(h[k] * w[k, j] for k in range(2)) for j in range(3)]  # (h^T W)_j
+    expected = np.array(
+        [
+            [w[i, j] + 0.5 / 3 * (w[i, j] - (math.tanh(h[i]) + h[i]) * back[j]) for j in range(3)]
+            for i in range(2)
+        ]
+    )
+    assert np.allclose(method.learn([x.reshape(1, 3)]), expected, rtol=0, atol=1e-12)
+
+
+def test_views_are_learnt_in_order_once_per_epoch() -> None:
+    views = [np.random.default_rng(k).uniform(0.0, 1.0, (2, 6)) for k in range(3)]
+    one, two = Infomax(hidden_units=4), Infomax(hidden_units=4, epochs=2)
+    first = one.learn(views)
+    assert not np.allclose(first, one.learn(views[::-1]))  # order matters
+    assert not np.allclose(two.learn(views), first)
+
+
+def test_the_scan_is_the_summed_absolute_activation_of_every_roll() -> None:
+    rng = np.random.default_rng(1)
+    method = Infomax(hidden_units=7)
+    weights = rng.normal(size=(7, 3 * 8))
+    current = rng.uniform(0.0, 1.0, (3, 8))
+    expected = [np.abs(weights @ np.roll(current, s, axis=-1).ravel()).sum() for s in range(8)]
+    assert np.allclose(method.unfamiliarity(weights, current), expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("k", [3, -11])
+def test_a_one_view_memory_of_a_contrasted_view_finds_the_turn(k: int) -> None:
+    """Trained on one view of grey levels spread over [0, 1] (defaults), the view itself is the
+    most familiar of its rotations, so the view turned ccw by k columns points -k columns."""
+    view = np.random.default_rng(3).uniform(0.0, 1.0, (6, N_COLUMNS))
+    method = Infomax()
+    memory = method.learn([view])
+    before = np.abs(method.start_weights(view.size) @ view.ravel()).sum()
+    profile = method.unfamiliarity(memory, view)
+    assert int(np.argmin(profile)) == 0 and profile[0] < before  # learning made it familiar
+    estimate = method.follow(memory, np.roll(view, -k, axis=-1))
+    assert estimate.angle == pytest.approx(-k * COLUMN, abs=1e-12)
+
+
+def test_standardize_gives_the_network_zero_mean_unit_sd_views() -> None:
+    view = np.random.default_rng(2).uniform(0.4, 0.5, (3, 10))
+    seen = Infomax(standardize=True).standardized(view)
+    assert seen.mean() == pytest.approx(0.0, abs=1e-12) and seen.std() == pytest.approx(1.0)
+    assert np.array_equal(Infomax().standardized(view), view)
+    assert not Infomax(standardize=True).standardized(np.full((3, 10), 0.7)).any()
+
+
+def test_blown_up_weights_and_bad_parameters_are_errors() -> None:
+    view = np.random.default_rng(0).uniform(0.0, 1.0, (4, 12))
+    with pytest.raises(ValueError, match="blew up with learning_rate 1000"):
+        Infomax(learning_rate=1000.0, epochs=20).learn([view] * 5)
+    for bad in ({"learning_rate": 0.0}, {"epochs": 0}, {"hidden_units": 0}):
+        with pytest.raises(ConfigError, match="infomax"):
+            Infomax(**bad)

@@ -1,0 +1,116 @@
+"""Perfect memory and the familiarity protocol on constructed views, where the answer is exact.
+
+Sign convention (DESIGN.md, azimuth ccw, column p at azimuth 2*pi*p/n): a robot that turns ccw
+by k columns sees what it saw at column p at column p - k, so its view is the stored view
+rolled by -k (:func:`homebench.imaging.rotation.rotate_view`). The way the stored view faced
+then lies k columns clockwise in the robot frame: direction -k columns, heading change +k.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from homebench.errors import ConfigError
+from homebench.geometry import PanoramaGeometry
+from homebench.imaging.rotation import rotate_view
+from homebench.methods import registry
+from homebench.methods.base import View
+from homebench.methods.familiarity import learns_route, most_familiar, rotations
+from homebench.methods.perfect_memory import PerfectMemory
+
+N = 36
+COLUMN = 2.0 * math.pi / N
+
+
+def _views(count: int, seed: int = 0, shape: tuple[int, int] = (5, N)) -> list[np.ndarray]:
+    rng = np.random.default_rng(seed)
+    return [rng.uniform(0.0, 1.0, shape) for _ in range(count)]
+
+
+def _same_angle(a: float | None, b: float) -> bool:
+    """Whether angles ``a`` and ``b`` (rad) agree to 1e-12 (a half turn is -pi or pi)."""
+    return a is not None and abs(math.remainder(a - b, 2.0 * math.pi)) < 1e-12
+
+
+def test_rotations_are_the_rolls_of_the_image() -> None:
+    image = _views(1, shape=(3, 7))[0]
+    rolled = rotations(image)
+    assert rolled.shape == (7, 21)
+    for s in range(7):
+        assert np.array_equal(rolled[s], np.roll(image, s, axis=-1).ravel())
+
+
+@pytest.mark.parametrize("shift", [0, 1, 9, 18, 35])
+def test_most_familiar_turns_the_shift_into_direction_and_rotation(shift: int) -> None:
+    profile = np.ones(N)
+    profile[shift] = 0.25
+    estimate = most_familiar(profile, view=3)
+    assert _same_angle(estimate.angle, -shift * COLUMN)
+    assert _same_angle(estimate.rotation, shift * COLUMN)
+    assert estimate.score == 0.25 and estimate.diagnostics == {"shift": shift, "view": 3}
+
+
+@pytest.mark.parametrize("k", [1, 5, 13, -7, 18])
+def test_a_stored_view_turned_by_k_columns_points_minus_k_columns_at_the_right_view(k) -> None:
+    """The robot at the third stored place, turned ccw by k columns: direction exactly -k
+    columns, heading change +k columns, the third view recognised, unfamiliarity 0."""
+    method = PerfectMemory()
+    views = _views(5)
+    memory = method.learn(views)
+    assert memory.shape == (5, 5, N)
+    estimate = method.follow(memory, np.roll(views[2], -k, axis=-1))
+    assert _same_angle(estimate.angle, -k * COLUMN)
+    assert _same_angle(estimate.rotation, k * COLUMN)
+    assert estimate.diagnostics["view"] == 2
+    assert estimate.score == pytest.approx(0.0, abs=1e-6)
+
+
+def test_the_ridf_is_the_smallest_rms_difference_over_the_stored_views() -> None:
+    method = PerfectMemory()
+    views = _views(3, seed=1)
+    current = _views(1, seed=2)[0]
+    profile = method.unfamiliarity(method.learn(views), current)
+    expected = [
+        min(np.sqrt(np.mean((np.roll(current, s, axis=-1) - view) ** 2)) for view in views)
+        for s in range(N)
+    ]
+    assert np.allclose(profile, expected, atol=1e-9)
+
+
+def test_describe_keeps_the_sign_through_a_rendered_size_panorama() -> None:
+    """A 360-column panorama turned ccw by 40 columns (40 deg) through rotate_view, described
+    at 90 columns (4 deg): the memory points -40 deg."""
+    geometry = PanoramaGeometry(360, 30, math.radians(40.0), math.radians(-40.0))
+    rng = np.random.default_rng(4)
+    smooth = np.cumsum(rng.normal(0.0, 8.0, (30, 360)), axis=1)
+    smooth -= np.linspace(0.0, 1.0, 360) * smooth[:, -1:]  # periodic in azimuth
+    image = np.clip(128 + smooth, 0, 255).astype(np.uint8)
+    stored = View(image, geometry)
+    current = rotate_view(stored, math.radians(40.0))
+    method = PerfectMemory()
+    assert method.describe(stored).shape == (17, 90)
+    estimate = method.follow(method.learn([method.describe(stored)]), method.describe(current))
+    assert math.degrees(estimate.angle) == pytest.approx(-40.0, abs=1e-9)
+
+
+def test_on_a_pair_it_is_a_compass_without_direction() -> None:
+    method = PerfectMemory()
+    goal = _views(1)[0]
+    estimate = method.home(np.roll(goal, -4, axis=-1), goal)
+    assert estimate.angle is None and estimate.rotation == pytest.approx(4 * COLUMN)
+    assert method.home(goal, np.full_like(goal, 0.5)).rotation is None  # a flat goal: none
+
+
+def test_a_flat_view_gives_no_estimate_and_the_registry_lists_both() -> None:
+    method = PerfectMemory()
+    estimate = method.follow(method.learn(_views(2)), np.full((5, N), 0.3))
+    assert estimate.angle is None and estimate.rotation is None
+    for name in ("perfect-memory", "infomax"):
+        cls = registry.get(name)
+        assert learns_route(cls) and not cls.gives_direction and cls.image_kind == "unfolded"
+    assert not learns_route(registry.get("warping"))
+    with pytest.raises(ConfigError, match="image_size must be positive"):
+        PerfectMemory(image_size=(0, 17))
