@@ -261,7 +261,8 @@ def _format_summary(tables: Any, config: Any) -> str:
     """The run's headline table (the report's first: the same cells, order and marks)."""
     from homebench.report.tables import config_order, console_summary
 
-    return console_summary(tables.summary, config_order(config), tables.comparisons)
+    order = config_order(config)
+    return console_summary(tables.summary, order, tables.comparisons, tables.metrics.ahc)
 
 
 def _run_experiment(
@@ -554,8 +555,10 @@ def compare(
 @main.command()
 @click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option(
-    "--metric", type=click.Choice(["ahc", "rr", "mean_ae_deg"]), default="ahc",
-    show_default=True, help="The metric shown.",
+    "--metric",
+    type=click.Choice(["ahc", "ahc_missing90", "no_estimate_share", "rr", "mean_ae_deg"]),
+    default="ahc", show_default=True,
+    help="The metric ranked (ahc_missing90: the AHC with a missing estimate as 90 deg).",
 )  # fmt: skip
 @_LABEL
 @_TABLE_OUT
@@ -571,7 +574,9 @@ def leaderboard(
     html_file: Path | None,
 ) -> None:
     """One table of the methods of RUN_DIRS under each condition: the metric with its 95 %
-    interval, the best of each column marked *."""
+    interval, the best of each column marked *; where a method gave no estimate for some
+    pairs, an AHC cell adds the other AHC and the share without an estimate, a mean AE cell
+    the share."""
     from homebench.report.compare import renderer_for, write_view_file
     from homebench.report.leaderboard import leaderboard as make_leaderboard
     from homebench.report.leaderboard import write_index

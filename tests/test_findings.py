@@ -212,3 +212,18 @@ def test_each_ae_finding_is_tested_with_abstentions_as_90_deg_and_left_out() -> 
     assert table.loc["day hits W harder", "verdict"] == "opposite"
     assert table.loc["day hits W harder", "missing"] == "as 90 deg"
     assert table.loc["P>W RR original-day", "missing"] == ""  # RR: no missing estimates
+
+
+def test_the_findings_view_says_how_each_ae_finding_counts_a_missing_estimate() -> None:
+    from homebench.report.findings_report import MISSING_NOTE, findings_view
+
+    pairs, starts = _tables(_paper_world, _paper_rr)
+    view = findings_view(findings_table(sift_findings(pairs, starts)))
+    shown = view.text_frame()
+    assert list(shown.columns[:3]) == ["place", "finding", "pairs without estimate"]
+    # an AE finding's two rows read alike but for how they count a missing estimate
+    ways = shown.groupby("finding")["pairs without estimate"].agg(tuple)
+    assert set(ways) == {("as 90 deg", "left out"), ("--",)}  # --: a return-ratio finding
+    assert MISSING_NOTE in view.notes
+    routes = findings_view(findings_table(route_findings(_routes(0.0))))
+    assert "pairs without estimate" not in routes.frame.columns and routes.notes == ()

@@ -23,14 +23,16 @@ from homebench.report.pages import MAX_WARNINGS, PAGE_LINES, warning_pages
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
 CONDITIONS = ("orig-orig", "orig-day")
-#: after the title and the headline table: with two or more conditions the heat maps (AHC, RR,
-#: mean AE); AHC and RR of all conditions side by side and the time per call; then per
-#: condition its fields and its AE maps (two goals a figure)
-HEATMAP_PAGES = 3
+#: after the title: the headline and band tables; with two or more conditions the heat maps
+#: (AHC, and as "mine" abstains the AHC with a missing estimate as 90 deg and the share without
+#: an estimate; RR, mean AE); AHC and RR of all conditions side by side and the time per call;
+#: then per condition its fields and its AE maps (two goals a figure)
+TABLE_PAGES = 2
+HEATMAP_PAGES = 5
 PAGES_PER_RUN = 3
 PAGES_PER_CONDITION = 2
-#: the appendix: definitions (2 pages), the config and the environment (1 page each)
-APPENDIX_PAGES = 4
+#: the appendix: definitions (3 pages), the config and the environment (1 page each)
+APPENDIX_PAGES = 5
 
 
 @pytest.fixture
@@ -46,7 +48,7 @@ def _text(pdf: Path, page: int) -> str:
 def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
     fake_run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS, name="fake-run")
     outcome = write_report(fake_run, ["pdf", "html", "md"], max_goals=1)
-    pages = 2 + HEATMAP_PAGES + PAGES_PER_RUN + len(CONDITIONS) * PAGES_PER_CONDITION
+    pages = 1 + TABLE_PAGES + HEATMAP_PAGES + PAGES_PER_RUN + len(CONDITIONS) * PAGES_PER_CONDITION
     pages += APPENDIX_PAGES
     folder = fake_run / "report"
     pdf = folder / "report.pdf"
@@ -62,13 +64,18 @@ def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
         assert expected in title
     summary = _text(pdf, 1)
     assert "mean AE [deg]" in summary and "90.00" in summary and "20.00" in summary
+    bands = _text(pdf, 2)
+    # every pair of the fake grid is in the nearest band (below 1.2 m); "mine" abstains on 2
+    # of its 38 pairs there
+    assert "Results per band of distance" in bands and "rotation flips [%]" in bands
+    assert "orig-orig mine 0-1.2 m 38 0.000 [0.000, 0.000] 0.000 5.3 [5.3, 5.3]" in bands
     # the per-goal figures come last, grouped by condition, in the config's order
-    first_per_goal = 2 + HEATMAP_PAGES + PAGES_PER_RUN
+    first_per_goal = 1 + TABLE_PAGES + HEATMAP_PAGES + PAGES_PER_RUN
     assert "Home-vector fields, orig-orig (current: db-orig" in _text(pdf, first_per_goal)
     last_figure = pages - 1 - APPENDIX_PAGES
     assert "orig-day (current: db-orig, goal: db-day)" in _text(pdf, last_figure)
     figures = sorted((folder / "figures").glob("*.png"))
-    assert len(figures) == pages - 2 - APPENDIX_PAGES
+    assert len(figures) == pages - 1 - TABLE_PAGES - APPENDIX_PAGES
     assert figures == sorted(p for p in outcome.files if p.suffix == ".png")
     for path in figures:
         image = cv2.imread(str(path))
@@ -134,7 +141,7 @@ def test_missing_and_corrupt_jobs_get_a_warning_page(fake_run: Path) -> None:
     assert "missing or corrupt job files: 2" in _text(pdf, 0)
     # each goal keeps one method: both goals are still drawn, after the warning page
     figure_pages = PAGES_PER_RUN + PAGES_PER_CONDITION
-    assert len(pypdf.PdfReader(pdf).pages) == 2 + 1 + figure_pages + APPENDIX_PAGES
+    assert len(pypdf.PdfReader(pdf).pages) == 2 + TABLE_PAGES + figure_pages + APPENDIX_PAGES
 
 
 def test_a_folder_that_is_no_run_or_has_no_results_is_a_data_error(
@@ -164,7 +171,7 @@ def test_cli_report_and_compare_on_a_real_run(tmp_path: Path, arena_manifest: Pa
     assert run / "report" / "report.pdf" in printed and run / "report" / "report.html" in printed
     assert all(p.is_file() for p in printed)
     pdf = pypdf.PdfReader(run / "report" / "report.pdf")
-    assert len(pdf.pages) == 2 + PAGES_PER_RUN + PAGES_PER_CONDITION + APPENDIX_PAGES
+    assert len(pdf.pages) == 1 + TABLE_PAGES + PAGES_PER_RUN + PAGES_PER_CONDITION + APPENDIX_PAGES
 
     other = tmp_path / "b"
     shutil.copytree(run, other)

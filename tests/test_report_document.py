@@ -16,6 +16,7 @@ from click.testing import CliRunner
 from test_report_runs import FakeMethod, write_fake_run
 
 from homebench.cli import main
+from homebench.config import AhcConfig, MetricsConfig
 from homebench.report import document, grid_report
 from homebench.report.appendix import (
     CONFIG_TITLE,
@@ -35,11 +36,19 @@ from homebench.report.captions import (
 from homebench.report.definitions import definitions
 from homebench.report.document import load_content, write_report
 from homebench.report.figure_files import draw_figure
-from homebench.report.heatmaps import HEAT_METRICS, _grid, heatmap_columns, heatmap_figure
+from homebench.report.heatmaps import (
+    HEAT_METRICS,
+    _grid,
+    heat_metrics,
+    heatmap_columns,
+    heatmap_figure,
+)
 from homebench.report.pages import appendix_pages
 from homebench.report.style import report_style
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
+#: The heat maps of a run in which a method ("mine") abstains, in order.
+HEAT_LABELS = ("AHC", "AHC (no est. = 90 deg)", "no estimate [%]", "RR", "mean AE [deg]")
 #: What a real run records beyond the fake run's environment.
 RECORDED = {
     "homebench": "0.1.0",
@@ -173,14 +182,14 @@ def test_a_sweep_writes_its_per_goal_figures_as_files_only(
     texts = _texts(run / "report" / "report.pdf")
     assert "are in the figures folder only (2 conditions, more than 1)" in texts[0]
     captioned = [text for text in texts if "Figure " in text]
-    for text, label in zip(captioned, ("AHC", "RR", "mean AE [deg]"), strict=False):
+    for text, label in zip(captioned, HEAT_LABELS, strict=False):
         assert f"{label} of each method (rows) under each condition (columns)" in text
     # the documents show the heat maps, the all-conditions figures and the time per call
     markdown = (run / "report" / "report.md").read_text()
     sections = markdown.split("\n## ")
     shown = {s.split("\n")[0]: s.count("](figures/") for s in sections if "](figures/" in s}
-    assert shown == {"Overview": 3, grid_report.METRICS_SECTION: 2, "Time per call": 1}
-    assert len(captioned) == 6
+    assert shown == {"Overview": 5, grid_report.METRICS_SECTION: 2, "Time per call": 1}
+    assert len(captioned) == 8
     assert all(f"Figure {k}." in text for k, text in enumerate(captioned, start=1))
     # every condition's per-goal figures are still written, in three formats
     for condition in ("orig-orig", "orig-day"):
@@ -194,25 +203,27 @@ def test_a_sweep_writes_its_per_goal_figures_as_files_only(
 def test_the_report_leads_with_the_headline_table_and_ends_with_per_goal_figures(
     tmp_path: Path,
 ) -> None:
-    """Title, the headline table, heat maps, AHC, RR, time per call, then the per-goal figures
-    of each condition, then the definitions; every page A4."""
+    """Title, the headline and band tables, heat maps, AHC, RR, time per call, then the
+    per-goal figures of each condition, then the definitions; every page A4."""
     run = _fake_run(tmp_path / "run", ("orig-orig", "orig-day"))
     write_report(run, ["pdf", "md"], max_goals=1)
     pdf = run / "report" / "report.pdf"
     texts = _texts(pdf)
     assert "Results per condition and method" in texts[1]
-    assert "condition method AHC RR mean AE [deg] no est. [%] home [ms]" in texts[1]
+    assert ("condition method AHC AHC (no est. = 90 deg) no est. [%] RR mean AE [deg] rotation "
+            "error [deg] rotation flips [%] home [ms]") in texts[1]  # fmt: skip
     assert "median AE [deg]" not in texts[1]  # the full summary is a file
+    assert "Results per band of distance" in texts[2]
     starts = [
-        "AHC of each method", "RR of each method", "mean AE [deg] of each method",
+        *(f"{label} of each method" for label in HEAT_LABELS),
         "AHC against the distance", "Return ratio (RR) per goal", "Time per call, all conditions",
         "Home-vector fields, orig-orig", "Angular error (AE) per current position, orig-orig",
         "Home-vector fields, orig-day", "Angular error (AE) per current position, orig-day",
     ]  # fmt: skip
-    figures = texts[2 : 2 + len(starts)]
-    for number, (text, start) in enumerate(zip(figures, starts, strict=True), start=3):
-        assert f"Figure {number - 2}. {start}" in text
-    assert texts[2 + len(starts)].startswith(DEFINITIONS_TITLE)
+    figures = texts[3 : 3 + len(starts)]
+    for number, (text, start) in enumerate(zip(figures, starts, strict=True), start=1):
+        assert f"Figure {number}. {start}" in text
+    assert texts[3 + len(starts)].startswith(DEFINITIONS_TITLE)
     sizes = {
         (round(float(page.mediabox.width) / 72, 2), round(float(page.mediabox.height) / 72, 2))
         for page in pypdf.PdfReader(pdf).pages
@@ -230,25 +241,30 @@ def test_the_report_leads_with_the_headline_table_and_ends_with_per_goal_figures
 
 
 def _summary() -> pd.DataFrame:
-    """Method m ran in style b only, n in style a only."""
-    rows = [("b", "y-y", "m", 0.5, 1.0, 60.0), ("b", "x-x", "m", -0.25, np.nan, 104.0),
-            ("a", "y-y", "n", 1.0, 0.0, 0.0), ("a", "x-x", "n", 0.123, 0.5, 50.05)]  # fmt: skip
-    return pd.DataFrame(rows, columns=["style", "condition", "method", "ahc", "rr",
-                                       "mean_ae_deg"])  # fmt: skip
+    """Method m ran in style b only, n in style a only; m abstains on some pairs."""
+    rows = [("b", "y-y", "m", 0.5, 0.25, 0.5, 1.0, 60.0),
+            ("b", "x-x", "m", -0.25, -0.5, 0.25, np.nan, 104.0),
+            ("a", "y-y", "n", 1.0, 1.0, 0.0, 0.0, 0.0),
+            ("a", "x-x", "n", 0.123, 0.123, 0.0, 0.5, 50.05)]  # fmt: skip
+    return pd.DataFrame(rows, columns=["style", "condition", "method", "ahc", "ahc_missing90",
+                                       "no_estimate_share", "rr", "mean_ae_deg"])  # fmt: skip
 
 
 def test_heat_map_columns_follow_the_config_and_cells_show_their_values() -> None:
     summary = _summary()
     columns = heatmap_columns(summary, ["y-y", "x-x"])
     assert columns == [("a", "y-y"), ("a", "x-x"), ("b", "y-y"), ("b", "x-x")]
+    assert [metric.label for metric in heat_metrics(summary)] == list(HEAT_LABELS)
     with report_style():
         expected = {
             "ahc": ["1.00", "0.12", "0.50", "-0.25"],
+            "ahc_missing90": ["1.00", "0.12", "0.25", "-0.50"],
+            "no_estimate_share": ["0.0", "0.0", "50.0", "25.0"],
             "rr": ["0.00", "0.50", "1.00", "n/a"],
             "mean_ae_deg": ["0.0", "50.0", "60.0", "104.0"],
         }
         for metric in HEAT_METRICS:
-            grid = _grid(summary, columns, metric.column)
+            grid = _grid(summary, columns, metric)
             assert list(grid.index) == ["m", "n"]
             fig = heatmap_figure(grid, metric)
             ax = fig.axes[0]
@@ -260,6 +276,17 @@ def test_heat_map_columns_follow_the_config_and_cells_show_their_values() -> Non
             labels = [t.get_text() for t in ax.get_xticklabels()]
             assert labels == ["a / y-y", "a / x-x", "b / y-y", "b / x-x"]
             plt.close(fig)
+
+
+def test_abstention_maps_are_drawn_only_where_a_method_abstains_and_name_the_ahc() -> None:
+    """Without a missing estimate the AHC with one as 90 deg is the AHC, and every share 0:
+    those maps are left out; a run's AHC definition other than the default is named."""
+    answered = _summary().assign(no_estimate_share=0.0)
+    assert [metric.label for metric in heat_metrics(answered)] == ["AHC", "RR", "mean AE [deg]"]
+    mean_cos = heat_metrics(_summary(), AhcConfig(definition="mean_cos"))
+    assert [metric.label for metric in mean_cos][:3] == [
+        "AHC (mean cos)", "AHC (mean cos; no est. = 90 deg)", "no estimate [%]"
+    ]  # fmt: skip
 
 
 def test_config_lines_are_json_with_short_containers_on_one_line() -> None:
@@ -296,8 +323,8 @@ def test_a_sparse_environment_reads_not_recorded() -> None:
 
 
 def test_definitions_name_the_catchment_only_when_computed() -> None:
-    assert any(h.startswith("Catchment") for h in definitions(True))
-    assert not any(h.startswith("Catchment") for h in definitions(False))
+    assert any(h.startswith("Catchment") for h in definitions(MetricsConfig(catchment=True)))
+    assert not any(h.startswith("Catchment") for h in definitions(MetricsConfig(catchment=False)))
 
 
 def test_a_long_config_continues_on_more_pages(tmp_path: Path) -> None:

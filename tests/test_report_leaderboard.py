@@ -11,7 +11,8 @@ from click.testing import CliRunner
 from test_report_runs import FakeMethod, write_fake_run
 
 from homebench.cli import main
-from homebench.report.leaderboard import leaderboard
+from homebench.errors import DataError
+from homebench.report.leaderboard import BOARD_METRICS, leaderboard
 
 CONDITIONS = ("a-a", "a-b")
 
@@ -85,7 +86,7 @@ def test_cli_writes_the_table_file_and_an_index_page(runs, tmp_path: Path) -> No
     ]
     result = CliRunner().invoke(main, args)
     assert result.exit_code == 0, result.output
-    assert result.stdout.startswith("**RR per method and condition")
+    assert result.stdout.startswith("**RR [95 % interval] per method and condition (*: best RR")
     assert sorted(out.parent.iterdir()) == [out, page]
     assert out.read_text().splitlines()[0] == "method,a-a,a-b"
     index = page.read_text()
@@ -125,3 +126,84 @@ def test_a_method_without_home_directions_is_never_ranked(tmp_path: Path) -> Non
         cells = leaderboard([run], metric=metric).view.frame.set_index("method")
         assert cells.loc["compass", "a-a"] == "--"
         assert cells.loc["warping", "a-a"].endswith(" *")
+
+
+#: Positions at which "holes" gives no estimate: 3 of the 19 pairs of each goal.
+HOLES = frozenset({(0, 0), (3, 4), (2, 0)})
+
+
+def _ae90(offset_deg: float) -> str:
+    """The AHC of "holes" (``offset_deg`` off) with its 3 missing estimates of 19 as 90 deg."""
+    return _ahc((16 * offset_deg + 3 * 90) / 19)
+
+
+@pytest.fixture
+def abstaining(tmp_path: Path) -> tuple[Path, Path]:
+    """Two runs: "holes" errs least where it answers but abstains on 15.8 % of the pairs;
+    "steady" answers every pair; "klt", of another run, holds a-b only and beats both."""
+    first = write_fake_run(
+        tmp_path / "first",
+        [FakeMethod("holes", 5.0, HOLES), FakeMethod("steady", 8.0)],
+        conditions=CONDITIONS,
+    )
+    second = write_fake_run(tmp_path / "second", [FakeMethod("klt", 3.0)], conditions=("a-b",))
+    return first, second
+
+
+def test_an_abstaining_method_shows_its_ahc90_and_share_and_each_column_marks_its_best(
+    abstaining,
+) -> None:
+    board = leaderboard(abstaining).view
+    assert board.title == (
+        "AHC [95 % interval] per method and condition; where a method gave no estimate for "
+        "some pairs, then AHC (no estimate = 90 deg) / no estimate [%] (*: best AHC in its "
+        "column)"
+    )
+    cells = board.frame.set_index("method")
+    # the paper's AHC ranks "holes" first in a-a, "klt" in a-b: one mark per column
+    assert cells.loc["holes", "a-a"] == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] * / {_ae90(5)} / 15.8"
+    assert cells.loc["holes", "a-b"] == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] / {_ae90(5)} / 15.8"
+    assert cells.loc["steady", "a-a"] == f"{_ahc(8)} [{_ahc(8)}, {_ahc(8)}]"  # no abstention
+    assert cells.loc["klt", "a-b"] == f"{_ahc(3)} [{_ahc(3)}, {_ahc(3)}] *"
+    assert cells.loc["klt", "a-a"] == "--"
+    for column in CONDITIONS:
+        assert sum(cell.split(" / ")[0].endswith(" *") for cell in cells[column]) == 1
+    # ranked on the AHC with a missing estimate as 90 deg, "steady" beats "holes" in a-a
+    cells = leaderboard(abstaining, metric="ahc_missing90").view.frame.set_index("method")
+    assert cells.loc["steady", "a-a"] == f"{_ahc(8)} [{_ahc(8)}, {_ahc(8)}] *"
+    assert cells.loc["holes", "a-a"] == f"{_ae90(5)} [{_ae90(5)}, {_ae90(5)}] / {_ahc(5)} / 15.8"
+    cells = leaderboard(abstaining, metric="mean_ae_deg").view.frame.set_index("method")
+    assert cells.loc["holes", "a-a"] == "5.00 [5.00, 5.00] * / 15.8"
+    cells = leaderboard(abstaining, metric="no_estimate_share").view.frame.set_index("method")
+    assert cells.loc["steady", "a-a"] == "0.0 [0.0, 0.0] *"
+    assert cells.loc["holes", "a-a"] == "15.8 [15.8, 15.8]"
+
+
+def _define_ahc(run: Path, definition: str) -> None:
+    config = json.loads((run / "config.resolved.json").read_text())
+    config["metrics"]["ahc"]["definition"] = definition
+    (run / "config.resolved.json").write_text(json.dumps(config))
+
+
+def test_the_title_names_the_runs_ahc_definition_and_two_definitions_do_not_rank_together(
+    abstaining,
+) -> None:
+    for run in abstaining:
+        _define_ahc(run, "mean_cos")
+    board = leaderboard(abstaining).view
+    assert board.title.startswith("AHC (mean cos) [95 % interval] per method and condition")
+    assert "then AHC (mean cos; no estimate = 90 deg) / no estimate [%]" in board.title
+    # the mean of cos(AE): the 3 missing of 19 pairs add nothing
+    mean_cos90 = f"{math.cos(math.radians(5)) * 16 / 19:.3f}"
+    holes = board.frame.set_index("method").loc["holes", "a-a"]
+    assert holes == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] * / {mean_cos90} / 15.8"
+    _define_ahc(abstaining[1], "cos_mean_ae")
+    for metric in ("ahc", "ahc_missing90"):
+        with pytest.raises(DataError, match="first and second define the AHC otherwise"):
+            leaderboard(abstaining, metric=metric)
+    assert leaderboard(abstaining, metric="rr").view.title.startswith("RR [95 % interval]")
+
+
+def test_the_cli_offers_every_board_metric() -> None:
+    (option,) = [p for p in main.commands["leaderboard"].params if p.name == "metric"]
+    assert sorted(option.type.choices) == sorted(BOARD_METRICS)

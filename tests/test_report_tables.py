@@ -31,6 +31,7 @@ from homebench.report.tables import (
     P_VALUE,
     Digits,
     RowOrder,
+    band_view,
     console_summary,
     headline_view,
     make_view,
@@ -275,7 +276,8 @@ def test_writers_show_units_rounding_and_missing_values(views: dict) -> None:
     assert csv.splitlines()[0] == (
         "condition,method,n goals,pairs,no estimate [%],no estimate [%] lo,no estimate [%] hi,"
         "mean AE [deg],mean AE [deg] lo,mean AE [deg] hi,median AE [deg],"
-        "rotation error [deg],rotation error [deg] lo,rotation error [deg] hi,AHC,AHC lo,AHC hi,"
+        "rotation error [deg],rotation error [deg] lo,rotation error [deg] hi,"
+        "rotation flips [%],rotation flips [%] lo,rotation flips [%] hi,AHC,AHC lo,AHC hi,"
         "AHC (no estimate = 90 deg),AHC (no estimate = 90 deg) lo,"
         "AHC (no estimate = 90 deg) hi,RR,RR lo,RR hi,catchment,catchment lo,catchment hi,"
         "describe [ms/image],home [ms/pair]"
@@ -366,7 +368,9 @@ def test_pdf_table_pages_keep_a_wide_long_table_on_the_page() -> None:
 
 
 def test_write_views_writes_three_files_per_table(views: dict, tmp_path: Path) -> None:
-    assert list(views) == ["headline", "summary", "rr_by_goal", "ahc_by_distance", "comparisons"]
+    assert list(views) == [
+        "headline", "bands", "summary", "rr_by_goal", "ahc_by_distance", "comparisons"
+    ]  # fmt: skip
     written = write_views(list(views.values()), tmp_path / "out")
     assert sorted(p.name for p in written) == sorted(
         f"{name}.{suffix}" for name in views for suffix in ("csv", "md", "tex")
@@ -421,19 +425,21 @@ LONG_CONDITIONS = ["original-original", "original-arboreal", "original-chairs",
 
 def _long_summary() -> pd.DataFrame:
     """A summary of LONG_METHODS x LONG_CONDITIONS with wide numbers: negative AHC bounds,
-    four-digit times; visual-compass gives no home direction (NaN)."""
+    four-digit times, rotation errors; visual-compass gives no home direction (NaN)."""
     rows = []
     for condition in LONG_CONDITIONS:
         for k, method in enumerate(LONG_METHODS):
             none = method == "visual-compass"
             metrics = {"ahc": -0.123, "ahc_lo": -0.456, "ahc_hi": 0.789, "rr": 0.812,
                        "rr_lo": 0.611, "rr_hi": 1.0, "mean_ae_deg": 123.456,
-                       "mean_ae_deg_lo": 100.5, "mean_ae_deg_hi": 140.25}  # fmt: skip
+                       "mean_ae_deg_lo": 100.5, "mean_ae_deg_hi": 140.25, "ahc_missing90": -0.25,
+                       "no_estimate_share": 0.125 * (k % 3)}  # fmt: skip
             rows.append({
                 "condition": condition, "method": method, "n_goals": 5, "pairs": 845,
                 **{c: math.nan if none else v for c, v in metrics.items()},
-                "no_estimate_share": 0.125 * (k % 3), "median_ae_deg": 99.5,
-                "ahc_missing90": 0.5, "catchment": 0.25, "describe_ms": 1234.5,
+                "median_ae_deg": 99.5, "rotation_error_deg": 123.456,
+                "rotation_error_deg_lo": 100.5, "rotation_error_deg_hi": 140.25,
+                "rotation_flip_share": 0.125, "catchment": 0.25, "describe_ms": 1234.5,
                 "home_ms": 9876.5 if k % 2 else 0.0123,
             })  # fmt: skip
     return pd.DataFrame(rows)
@@ -443,13 +449,18 @@ def test_the_headline_table_fits_the_pdf_page_without_shrinking() -> None:
     summary = _long_summary()
     order = RowOrder(tuple(LONG_CONDITIONS), tuple(LONG_METHODS))
     view = headline_view(summary, order, pd.DataFrame(columns=COLUMNS))
-    assert view.shown_columns() == ["condition", "method", "AHC", "RR", "mean AE [deg]",
-                                    "no est. [%]", "home [ms]"]  # fmt: skip
+    assert view.shown_columns() == [
+        "condition", "method", "AHC", "AHC (no est. = 90 deg)", "no est. [%]", "RR",
+        "mean AE [deg]", "rotation error [deg]", "rotation flips [%]", "home [ms]",
+    ]  # fmt: skip
     shown = view.text_frame()
     assert shown.loc[0, "AHC"] == "-0.123 [-0.456, 0.789]"
+    assert shown.loc[1, ["AHC (no est. = 90 deg)", "no est. [%]"]].tolist() == ["-0.250", "12.5"]
     assert shown.loc[0, "RR"] == "0.812 [0.611, 1.000]"
+    assert shown.loc[0, "rotation flips [%]"] == "12.5"
     compass = shown[shown["method"] == "visual-compass"]
-    assert (compass[["AHC", "RR", "mean AE [deg]"]] == MISSING_TEXT).all().all()
+    directions = ["AHC", "AHC (no est. = 90 deg)", "no est. [%]", "RR", "mean AE [deg]"]
+    assert (compass[directions] == MISSING_TEXT).all().all()
     pages = table_pages(view)
     assert len(pages) == math.ceil(len(summary) / TABLE_ROWS)
     for page in pages:
@@ -465,9 +476,9 @@ def test_the_headline_table_fits_the_pdf_page_without_shrinking() -> None:
     # LaTeX: the condition heads its methods' rows, one column narrower
     latex = to_latex(view)
     _check_latex(latex)
-    assert "\\begin{longtable}{lrrSSS}" in latex and "original-day &" not in latex
-    heading = "\\multicolumn{6}{l}{\\itshape condition original-day} \\\\\nwarping & -0.123"
-    assert latex.count("\\multicolumn{6}{l}{\\itshape condition") == 5 and heading in latex
+    assert "\\begin{longtable}{lrSSrSSSS}" in latex and "original-day &" not in latex
+    heading = "\\multicolumn{9}{l}{\\itshape condition original-day} \\\\\nwarping & -0.123"
+    assert latex.count("\\multicolumn{9}{l}{\\itshape condition") == 5 and heading in latex
     # the full summary is still written, every column with its interval
     full = summary_view(summary, order, pd.DataFrame(columns=COLUMNS))
     assert {"median AE [deg]", "catchment", "describe [ms/image]"} <= set(full.shown_columns())
@@ -479,12 +490,84 @@ def test_the_console_summary_fits_100_columns() -> None:
     text = console_summary(summary, order, pd.DataFrame(columns=COLUMNS))
     lines = text.splitlines()
     assert max(len(line) for line in lines) <= CONSOLE_WIDTH
-    # a condition heads its methods' rows; AHC with its interval, RR without
-    assert lines[lines.index("condition original-day") + 1].split()[:5] == [
-        "warping", "-0.123", "[-0.456,", "0.789]", "0.812"
+    # a condition heads its methods' rows; AHC with its interval, then the AHC with a missing
+    # estimate as 90 deg and the share without an estimate; RR without its interval; no
+    # rotation columns
+    assert lines[1].split() == ["method", "AHC", "AHC90", "no", "est.", "[%]", "RR", "mean",
+                                "AE", "[deg]", "home", "[ms]"]  # fmt: skip
+    assert lines[lines.index("condition original-day") + 2].split()[:7] == [
+        "min-warping", "-0.123", "[-0.456,", "0.789]", "-0.250", "12.5", "0.812"
     ]  # fmt: skip
     compass = [line for line in lines if line.strip().startswith("visual-compass")]
-    assert len(compass) == 5 and all(line.split()[1:4] == ["--"] * 3 for line in compass)
+    assert len(compass) == 5 and all(line.split()[1:6] == ["--"] * 5 for line in compass)
+    assert "AHC90: the same with a missing estimate counted as 90 deg" in " ".join(text.split())
+
+
+def test_an_abstaining_method_shows_its_ahc90_and_share_in_the_headline_and_console(
+    views: dict, tmp_path: Path
+) -> None:
+    """holes_10 abstains on 3 of 19 pairs a goal: its AHC over the rest is cos 10 deg, with the
+    3 as 90 deg the cosine of a mean AE of (16 * 10 + 3 * 90) / 19 deg, and 15.8 % of its pairs
+    have no estimate."""
+    ahc90 = f"{math.cos(math.radians((16 * 10 + 3 * 90) / 19)):.3f}"
+    headline = views["headline"].text_frame().set_index(["condition", "method"])
+    holes = headline.loc[("a-a", "holes_10")]
+    assert holes["AHC"] == "0.985 [0.985, 0.985]"
+    assert (holes["AHC (no est. = 90 deg)"], holes["no est. [%]"]) == (ahc90, "15.8")
+    assert headline.loc[("a-a", "perfect"), "no est. [%]"] == "0.0"
+    run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS)
+    tables = build_tables(run, MetricsConfig())
+    lines = console_summary(tables.summary, ORDER, tables.comparisons).splitlines()
+    assert lines[1].split()[:5] == ["method", "AHC", "AHC90", "no", "est."]
+    row = next(line for line in lines if line.strip().startswith("holes_10"))
+    assert row.split()[1:6] == ["0.985", "[0.985,", "0.985]", ahc90, "15.8"]
+
+
+def test_headers_name_the_ahc_definition_the_run_chose(views: dict, tmp_path: Path) -> None:
+    """A run whose AHC is the mean of cos(AE) (metrics.ahc.definition: mean_cos): every AHC
+    header and title says so, and the notes say what it is; the default's read "AHC"."""
+    assert views["headline"].shown_columns()[2:4] == ["AHC", "AHC (no est. = 90 deg)"]
+    run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS)
+    metrics = MetricsConfig.model_validate({"ahc": {"definition": "mean_cos"}})
+    tables = build_tables(run, metrics)
+    chosen = {v.name: v for v in report_views(tables, ORDER)}
+    mean_cos = ["AHC (mean cos)", "AHC (mean cos; no est. = 90 deg)"]
+    assert chosen["headline"].shown_columns()[2:4] == mean_cos
+    assert set(mean_cos) <= set(chosen["bands"].shown_columns())
+    summary = chosen["summary"].shown_columns()
+    assert {"AHC (mean cos)", "AHC (mean cos; no estimate = 90 deg)"} <= set(summary)
+    assert "AHC" not in summary and "AHC" not in chosen["headline"].shown_columns()
+    assert chosen["ahc_by_distance"].title.startswith("AHC (mean cos) by distance")
+    assert "AHC (mean cos)" in set(chosen["comparisons"].frame["metric"])
+    assert "AHC (mean cos): the mean of cos(AE)" in " ".join(chosen["headline"].notes)
+    console = console_summary(tables.summary, ORDER, tables.comparisons, metrics.ahc)
+    assert console.splitlines()[1].split()[1:4] == ["AHC", "(mean", "cos)"]
+    assert "AHC (mean cos): the mean of cos(AE)" in " ".join(console.split())
+    assert max(len(line) for line in console.splitlines()) <= CONSOLE_WIDTH
+
+
+def test_the_band_view_shows_each_methods_bands_nearest_first(tmp_path: Path) -> None:
+    run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS)
+    metrics = MetricsConfig.model_validate({"band_edges_m": [0.5, 1.0]})
+    view = band_view(build_tables(run, metrics).bands, ORDER, metrics.ahc)
+    assert view.shown_columns() == [
+        "condition", "method", "distance", "pairs", "AHC", "AHC (no est. = 90 deg)",
+        "no est. [%]", "mean AE [deg]", "rotation error [deg]", "rotation flips [%]",
+    ]  # fmt: skip
+    shown = view.text_frame()
+    assert list(shown["condition"].unique()) == list(CONDITIONS)
+    first = shown[shown["condition"] == CONDITIONS[0]]
+    assert list(first["method"]) == [m.label for m in METHODS for _ in range(3)]
+    assert list(first["distance"][:3]) == ["0-0.5 m", "0.5-1 m", "from 1 m"]
+    # holes_10 lacks the estimate of the one pair beyond 1 m: no AHC there, AHC90 of 0
+    far = first[(first["method"] == "holes_10") & (first["distance"] == "from 1 m")].iloc[0]
+    assert (far["AHC"], far["AHC (no est. = 90 deg)"], far["no est. [%]"]) == ("--", "0.000",
+                                                                               "100.0")  # fmt: skip
+    (page, *_) = table_pages(view)
+    renderer = FigureCanvasAgg(page).get_renderer()
+    page.draw(renderer)
+    box = page.axes[0].tables[0].get_window_extent(renderer)
+    assert box.x0 >= 0 and box.x1 <= page.bbox.width
 
 
 def test_a_method_without_home_directions_is_never_ranked() -> None:

@@ -13,6 +13,7 @@ import shlex
 from dataclasses import dataclass
 from typing import Any
 
+from homebench.config import MetricsConfig
 from homebench.report.definitions import definitions
 from homebench.report.run_data import RunInfo
 
@@ -154,11 +155,11 @@ def environment_sections(env: dict[str, Any]) -> dict[str, list[str]]:
     }
 
 
-def run_appendix(run: RunInfo, catchment: bool | None) -> Appendix:
-    """The appendix of ``run``; ``catchment``: whether the run computed it (None: a route run,
-    which has no grid metrics to define)."""
+def run_appendix(run: RunInfo, metrics: MetricsConfig | None) -> Appendix:
+    """The appendix of ``run``; ``metrics``: a grid run's metric settings (None: a route or
+    closed-loop run, which has no grid metrics to define)."""
     return Appendix(
-        {} if catchment is None else definitions(catchment),
+        {} if metrics is None else definitions(metrics),
         json_lines(run.config),
         environment_sections(run.environment),
     )

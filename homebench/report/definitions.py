@@ -2,9 +2,10 @@
 page (PDF) and section (HTML, Markdown) state them.
 
 The text restates the docstrings of :mod:`homebench.analysis.metrics`,
-:mod:`~homebench.analysis.return_ratio`, :mod:`~homebench.analysis.statistics` and
-:mod:`~homebench.analysis.comparisons`; the run's own settings (bins, RR step, radius) are on
-the title page.
+:mod:`~homebench.analysis.return_ratio`, :mod:`~homebench.analysis.statistics`,
+:mod:`~homebench.analysis.comparisons` and :mod:`~homebench.analysis.tables` (bands, flips);
+the run's AHC definition and distance bands are stated here, its other settings (bins, RR step,
+radius) on the title page.
 """
 
 from __future__ import annotations
@@ -15,6 +16,9 @@ from homebench.analysis.statistics import (
     N_BOOT,
     N_SIGN_FLIPS,
 )
+from homebench.analysis.tables import FLIP_DEG
+from homebench.config import MetricsConfig
+from homebench.report.tables import AHC_MEANINGS, ahc_header
 
 METRICS = {
     "AE, angular error (seed 001, eq. 11)": [
@@ -92,7 +96,50 @@ STATISTICS = {
 }
 
 
-def definitions(catchment: bool) -> dict[str, list[str]]:
-    """The definitions of a grid run's report: heading -> paragraphs (metrics, the catchment
-    when the run computed it, then the statistics)."""
-    return {**METRICS, **(CATCHMENT if catchment else {}), **STATISTICS}
+ROTATION = {
+    "Rotation error and flips": [
+        "Rotation error = |wrap(estimated - true heading change)| from the goal's view to the "
+        "current one, over the pairs for which the method reports a rotation (a compass "
+        "method reports nothing else); its mean in deg. Flips: the share of those estimates "
+        f"off by more than {FLIP_DEG:g} deg, a view taken for its opposite, as a visual compass "
+        "does far from the goal. A few flips weigh in a mean as much as many small errors, so "
+        "the flips stand beside it.",
+    ],
+}
+
+
+def bands_text(edges: tuple[float, ...]) -> str:
+    """The distance bands of ``edges`` (m) in words: "below 1.2 m, 1.2 to 2.4 m, from 2.4 m"."""
+    inner = [f"{lo:g} to {hi:g} m" for lo, hi in zip(edges, edges[1:], strict=False)]
+    return ", ".join([f"below {edges[0]:g} m", *inner, f"from {edges[-1]:g} m"])
+
+
+def _run_settings(metrics: MetricsConfig) -> dict[str, list[str]]:
+    """The AHC definition and distance bands as the run set them."""
+    return {
+        "AHC definitions": [
+            "Two AHCs are in the literature: seed 001's eq. 12, the cosine of the mean AE "
+            "(metrics.ahc.definition: cos_mean_ae, the default), and the mean of cos(AE), the "
+            "mean homeward component of a unit home vector, which Vardy & Moeller (2005) and "
+            "Moeller & Vardy (2006) report (mean_cos). A cosine of a mean is not a mean of "
+            "cosines: set a table beside another paper's only when both use one definition. "
+            f"This run's AHC is {AHC_MEANINGS[metrics.ahc.definition]} (headers say "
+            f"'{ahc_header('AHC', metrics.ahc)}').",
+        ],
+        "Distance bands": [
+            "The band table gives AHC (both readings), mean AE, the share without an estimate, "
+            "rotation error and flips per band of distance between current and goal position "
+            f"(metrics.band_edges_m; this run: {bands_text(metrics.band_edges_m)}), each with "
+            "its goal-bootstrap interval in tables/bands.csv, so that one mean over every "
+            "distance does not blend a method that homes well near the goal with one that fails "
+            "far from it.",
+        ],
+    }
+
+
+def definitions(metrics: MetricsConfig) -> dict[str, list[str]]:
+    """The definitions of a grid run's report: heading -> paragraphs (metrics, the run's AHC
+    definition and distance bands, rotation error, the catchment when the run computed it,
+    then the statistics)."""
+    catchment = CATCHMENT if metrics.catchment else {}
+    return {**METRICS, **_run_settings(metrics), **ROTATION, **catchment, **STATISTICS}

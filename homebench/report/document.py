@@ -4,7 +4,7 @@ Everything comes from the run folder alone, and the output is reproducible: the 
 are the run's start (environment.json), figure files carry no date, so two reports of the same
 run are byte-identical.
 
-The PDF: the title page, warnings, the headline table (the full tables are files), the
+The PDF: the title page, warnings, the headline and band tables (the others are files), the
 figures (each on an A4 page with its numbered caption below it; a grid run's in the order of
 :mod:`~homebench.report.grid_report`, per-goal figures last) and an appendix: the definitions of
 the metrics and statistics, the resolved config, the environment and the data sets' checksums.
@@ -53,6 +53,8 @@ from homebench.report.tables import TableView, report_views, run_order, write_vi
 
 FORMATS = ("pdf", "html", "md")
 REPORT_FOLDER = "report"
+#: The tables of a grid run's PDF (the others are files, and in the HTML and Markdown reports).
+PDF_TABLES = ("headline", "bands")
 #: Bookmarks of the PDF's text pages before and after the figures.
 FRONT_TITLE = "Run and tables"
 BACK_TITLE = "Definitions, configuration and environment"
@@ -100,9 +102,11 @@ def _grid_content(
     views = report_views(run.tables, run_order(run))
     summary = run_summary(run)
     summary["Figures"] = [figures_note(run, max_goals)]
-    appendix = run_appendix(run, run.metrics.catchment)
+    appendix = run_appendix(run, run.metrics)
     figures = partial(grid_figures, run, max_goals)
-    return ReportContent(run, summary, views, 1, warnings, figures, appendix, shown_sections(run))
+    pdf_tables = sum(view.name in PDF_TABLES for view in views)  # the first views
+    return ReportContent(run, summary, views, pdf_tables, warnings, figures, appendix,
+                         shown_sections(run))  # fmt: skip
 
 
 def _route_content(info: RunInfo) -> ReportContent:

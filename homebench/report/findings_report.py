@@ -29,7 +29,7 @@ from homebench.experiments.route.config import KLT_SECTOR
 from homebench.report.route_report import load_route_run
 from homebench.report.run_data import grid_run, read_run_info
 from homebench.report.run_set import run_labels
-from homebench.report.tables import FIXED0, FIXED2, FIXED3, TableView, make_view
+from homebench.report.tables import FIXED0, FIXED2, FIXED3, MISSING_TEXT, TableView, make_view
 
 
 def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -125,20 +125,33 @@ def findings_of_runs(
     return findings_table(sift_findings(pairs, starts, roles, alpha))
 
 
+#: The findings view's note on the ``missing`` column.
+MISSING_NOTE = (
+    "pairs without estimate: how an AE finding counts a pair for which a method gave no "
+    "estimate; each is tested both ways: as 90 deg (a random guess, so that abstaining gains "
+    "nothing) and left out (the paper's reading). A finding that holds only when they are left "
+    "out rests on the method's abstentions. --: not an AE finding (a return-ratio start without "
+    "an estimate fails)."
+)
+
+
 def findings_view(table: pd.DataFrame, alpha: float = ALPHA) -> TableView:
-    """The findings table for printing: place, finding, effect with its 95 % interval, unit,
-    clusters, Holm-corrected p and verdict."""
+    """The findings table for printing: place, finding, how a pair without an estimate counts
+    (when any finding is about the AE), effect with its 95 % interval, unit, clusters,
+    Holm-corrected p and verdict."""
+    missing = table["missing"].replace("", MISSING_TEXT)
+    about_ae = bool((missing != MISSING_TEXT).any())
     frame = pd.DataFrame(
         {
             "place": table["place"],
             "finding": table["statement"],
+            **({"pairs without estimate": missing} if about_ae else {}),
             "effect": table["effect"],
             "95 % interval": [
                 f"[{FIXED2.text(lo)}, {FIXED2.text(hi)}]"
                 for lo, hi in zip(table["lo"], table["hi"], strict=True)
             ],
             "unit": table["unit"],
-            "no estimate": table["missing"],
             "clusters": table["clusters"],
             "p (Holm)": table["p_holm"],
             "verdict": table["verdict"],
@@ -148,6 +161,6 @@ def findings_view(table: pd.DataFrame, alpha: float = ALPHA) -> TableView:
         f"Findings of the papers (goal-level tests, Holm-corrected within each place, "
         f"alpha = {alpha:g})"
     )
-    return make_view(
-        "findings", title, frame, {"effect": FIXED2, "clusters": FIXED0, "p (Holm)": FIXED3}
-    )
+    digits = {"effect": FIXED2, "clusters": FIXED0, "p (Holm)": FIXED3}
+    notes = (MISSING_NOTE,) if about_ae else ()
+    return make_view("findings", title, frame, digits, notes=notes)

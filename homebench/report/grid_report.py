@@ -1,11 +1,13 @@
 """The figures of a grid run's report, in the order the documents show them.
 
-First what a reader needs: the method x condition heat maps of AHC, RR and mean AE (with two
-or more conditions), AHC against distance and RR per goal of every condition side by side (the
-paper's Figures 9 and 10), the time per call; then, as an appendix, the per-goal figures of each
-condition: home-vector fields (Figure 7) and AE maps (Figure 8) of ``max_goals`` goals spread
-over the goal list. A run over more than :data:`MAX_DETAILED_CONDITIONS` conditions (style x
-condition) writes its per-goal figures as files only.
+First what a reader needs: the method x condition heat maps of AHC (where a method abstains,
+beside it the AHC with a missing estimate as 90 deg and the share without an estimate), RR and
+mean AE (with two or more conditions), AHC against distance and RR per goal of every condition
+side by side (the paper's Figures 9 and 10), the time per call; then, as an appendix, the
+per-goal figures of each condition: home-vector fields (Figure 7) and AE maps (Figure 8) of
+``max_goals`` goals spread over the goal list. A run over more than
+:data:`MAX_DETAILED_CONDITIONS` conditions (style x condition) writes its per-goal figures as
+files only.
 """
 
 from __future__ import annotations
@@ -23,7 +25,12 @@ from homebench.report.figure_data import (
     pick_goals,
 )
 from homebench.report.grid_figures import AE_MAX_DEG, ae_figure, field_figure, grid_pages
-from homebench.report.heatmaps import OVERVIEW_SECTION, heatmap_columns, heatmap_figures
+from homebench.report.heatmaps import (
+    OVERVIEW_SECTION,
+    heat_metrics,
+    heatmap_columns,
+    heatmap_figures,
+)
 from homebench.report.metric_figures import (
     ConditionPanel,
     RRPanel,
@@ -36,7 +43,7 @@ from homebench.report.metric_figures import (
 )
 from homebench.report.run_data import RunData
 from homebench.report.style import MethodStyle, method_styles
-from homebench.report.tables import run_order
+from homebench.report.tables import ahc_header, run_order
 
 #: Sections of the figures of all conditions side by side (AHC, RR), and of the time per call.
 METRICS_SECTION = "All conditions"
@@ -78,8 +85,11 @@ def figures_note(run: RunData, max_goals: int | None) -> str:
     shown, total = _shown_goals(run, max_goals)
     goals = "every goal" if shown == total else f"{shown} of {total} goals (--max-goals)"
     columns = heatmap_count(run)
-    heat = "heat maps of AHC, RR and mean AE (method x condition); " if columns > 1 else ""
-    body = f"{heat}AHC against distance and RR per goal of every condition; time per call"
+    labels = [metric.label for metric in heat_metrics(run.tables.summary, run.metrics.ahc)]
+    listed = f"{', '.join(labels[:-1])} and {labels[-1]}"
+    heat = f"heat maps of {listed} (method x condition); " if columns > 1 else ""
+    ahc = ahc_header("AHC", run.metrics.ahc)
+    body = f"{heat}{ahc} against distance and RR per goal of every condition; time per call"
     per_goal = f"home-vector fields and AE maps of {goals} per condition"
     if columns > MAX_DETAILED_CONDITIONS:
         return (
@@ -183,13 +193,14 @@ def _metric_figures(
     ahc_panels, rr_panels, titles = _metric_panels(run)
     limits = ahc_range(run.tables.ahc)
     chunks = ahc_pages(ahc_panels)
+    label = ahc_header("AHC", run.metrics.ahc)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
         caption = (
-            f"AHC against the distance between current and goal position{panels}. Lines: AHC "
-            "per distance bin; bands: 95 % goal-bootstrap CI; top axis: pairs per bin; AHC "
+            f"{label} against the distance between current and goal position{panels}. Lines: "
+            "AHC per distance bin; bands: 95 % goal-bootstrap CI; top axis: pairs per bin; AHC "
             f"axis {limits[0]:g} to {limits[1]:g} in every panel."
         )
-        yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits)
+        yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label)
     chunks = rr_pages(rr_panels)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
         caption = (
@@ -207,7 +218,7 @@ def grid_figures(run: RunData, max_goals: int | None) -> Iterator[SectionFigure]
     if heatmap_count(run) > 1:
         ordered = run_order(run).sort(run.tables.summary)
         seeds_pooled = run.tables.pairs["seed"].nunique(dropna=False) > 1
-        yield from heatmap_figures(ordered, run.conditions, seeds_pooled)
+        yield from heatmap_figures(ordered, run.conditions, seeds_pooled, run.metrics.ahc)
     for stem, caption, fig in _metric_figures(run, styles):
         yield stem, METRICS_SECTION, caption, fig
     caption = (

@@ -5,14 +5,17 @@ A run over many conditions (or styles) would fill hundreds of pages with per-con
 figures; these maps show its summary table (:func:`homebench.analysis.tables.summary_table`)
 on a page per metric instead. Colour scales are fixed, so maps of different runs compare by
 eye: AHC -1 to 1 (its whole range: 0 is a mean AE of 90 deg), RR 0 to 1, mean AE 0 to 100 deg
-(larger errors take the end colour). The colour of a better value is the same in every map.
+(larger errors take the end colour), the share without an estimate 0 to 100 %. The colour of a
+better value is the same in every map. Where a method abstains on some pair, the AHC with a
+missing estimate as 90 deg and the share without an estimate follow the AHC's map, so that a
+method that abstains where it is unsure does not look better than it homes.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import matplotlib as mpl
 import numpy as np
@@ -20,8 +23,9 @@ import pandas as pd
 from matplotlib.colors import Colormap
 from matplotlib.figure import Figure
 
+from homebench.config import AhcConfig
 from homebench.report.style import DOUBLE_COLUMN, MAX_FIGURE_HEIGHT, MISSING_COLOUR, new_figure
-from homebench.report.tables import swept
+from homebench.report.tables import DEFAULT_AHC, ahc_header, swept
 
 #: Section heading of the overview figures.
 OVERVIEW_SECTION = "Overview"
@@ -37,8 +41,9 @@ LIGHT = 0.5
 @dataclass(frozen=True)
 class HeatMetric:
     """A summary column drawn as a heat map: its label, fixed colour range, value format,
-    colour map (reversed for a metric where smaller is better) and which end of the colour bar
-    stands for values beyond the range (matplotlib's ``extend``)."""
+    colour map (reversed for a metric where smaller is better), which end of the colour bar
+    stands for values beyond the range (matplotlib's ``extend``), the factor from the
+    column's values to the drawn ones, and what the caption adds."""
 
     column: str
     label: str
@@ -47,13 +52,38 @@ class HeatMetric:
     fmt: str
     cmap: str
     extend: str = "neither"
+    scale: float = 1.0
+    note: str = ""
 
 
 HEAT_METRICS = (
     HeatMetric("ahc", "AHC", -1.0, 1.0, "{:.2f}", "viridis"),
+    HeatMetric(
+        "ahc_missing90", "AHC (no est. = 90 deg)", -1.0, 1.0, "{:.2f}", "viridis",
+        note=" A pair without an estimate counts as 90 deg, so that abstaining gains nothing.",
+    ),
+    HeatMetric(
+        "no_estimate_share", "no estimate [%]", 0.0, 100.0, "{:.1f}", "viridis_r", scale=100.0,
+        note=" The pairs the paper's AHC leaves out.",
+    ),
     HeatMetric("rr", "RR", 0.0, 1.0, "{:.2f}", "viridis"),
     HeatMetric("mean_ae_deg", "mean AE [deg]", 0.0, 100.0, "{:.1f}", "viridis_r", "max"),
-)
+)  # fmt: skip
+#: Maps drawn only where some method lacks an estimate on some pair (else they repeat the
+#: AHC's map and show zeros).
+ABSTENTION_METRICS = ("ahc_missing90", "no_estimate_share")
+
+
+def heat_metrics(summary: pd.DataFrame, ahc: AhcConfig = DEFAULT_AHC) -> list[HeatMetric]:
+    """The maps of ``summary`` (the summary's columns; ABSTENTION_METRICS only where a method
+    abstains), labelled by the run's AHC definition (``ahc``)."""
+    abstains = "no_estimate_share" in summary and bool((summary["no_estimate_share"] > 0).any())
+    return [
+        replace(metric, label=ahc_header(metric.label, ahc))
+        for metric in HEAT_METRICS
+        if metric.column in summary.columns
+        and (abstains or metric.column not in ABSTENTION_METRICS)
+    ]
 
 
 def _factors(summary: pd.DataFrame) -> list[str]:
@@ -70,14 +100,16 @@ def heatmap_columns(summary: pd.DataFrame, conditions: Sequence[str]) -> list[tu
     return sorted(unique, key=lambda key: (key[:-1], order.get(key[-1], len(order)), key[-1]))
 
 
-def _grid(summary: pd.DataFrame, columns: list[tuple[str, ...]], metric: str) -> pd.DataFrame:
-    """``metric`` as methods (in ``summary``'s row order) x ``columns``; NaN where there is
-    no value."""
+def _grid(
+    summary: pd.DataFrame, columns: list[tuple[str, ...]], metric: HeatMetric
+) -> pd.DataFrame:
+    """``metric``'s values as drawn (scaled) as methods (in ``summary``'s row order) x
+    ``columns``; NaN where there is no value."""
     keys = summary[_factors(summary)].itertuples(index=False)
     keyed = summary.assign(key=[tuple(str(v) for v in row) for row in keys])
-    wide = keyed.pivot(index="method", columns="key", values=metric)
+    wide = keyed.pivot(index="method", columns="key", values=metric.column)
     rows = pd.unique(keyed["method"])
-    return wide.reindex(index=rows, columns=pd.Index(columns, tupleize_cols=False))
+    return wide.reindex(index=rows, columns=pd.Index(columns, tupleize_cols=False)) * metric.scale
 
 
 def _cell_colour(cmap: Colormap, metric: HeatMetric, value: float) -> str:
@@ -121,24 +153,27 @@ def heatmap_figure(values: pd.DataFrame, metric: HeatMetric) -> Figure:
 
 
 def heatmap_figures(
-    summary: pd.DataFrame, conditions: Sequence[str], seeds_pooled: bool = False
+    summary: pd.DataFrame,
+    conditions: Sequence[str],
+    seeds_pooled: bool = False,
+    ahc: AhcConfig = DEFAULT_AHC,
 ) -> Iterator[tuple[str, str, str, Figure]]:
-    """(file stem, section, caption, figure) of each metric's heat map, MAX_MAP_COLUMNS
-    columns per map; nothing when ``summary`` is empty. ``seeds_pooled``: the run swept world
-    seeds, which each cell pools (the caption says so)."""
+    """(file stem, section, caption, figure) of each of :func:`heat_metrics`' maps,
+    MAX_MAP_COLUMNS columns per map; nothing when ``summary`` is empty. ``seeds_pooled``: the
+    run swept world seeds, which each cell pools (the caption says so); ``ahc``: the run's
+    AHC settings."""
     columns = heatmap_columns(summary, conditions) if not summary.empty else []
     chunks = [columns[k : k + MAX_MAP_COLUMNS] for k in range(0, len(columns), MAX_MAP_COLUMNS)]
     pooled = ", world seeds pooled," if seeds_pooled else ""
-    for metric in HEAT_METRICS:
-        if metric.column not in summary.columns:
-            continue
+    for metric in heat_metrics(summary, ahc):
         for part, chunk in enumerate(chunks, start=1):
             more = f" (part {part} of {len(chunks)})" if len(chunks) > 1 else ""
             caption = (
                 f"{metric.label} of each method (rows) under each condition (columns){more}"
-                f"{pooled} as in the summary table. The colour scale is fixed at {metric.vmin:g} "
-                f"to {metric.vmax:g} for every run; grey cells (n/a) have no value."
+                f"{pooled} as in the summary table.{metric.note} The colour scale is fixed at "
+                f"{metric.vmin:g} to {metric.vmax:g} for every run; grey cells (n/a) have no "
+                "value."
             )
             stem = f"heatmap_{metric.column}" + (f"_{part}" if len(chunks) > 1 else "")
-            grid = _grid(summary, chunk, metric.column)
+            grid = _grid(summary, chunk, metric)
             yield stem, OVERVIEW_SECTION, caption, heatmap_figure(grid, metric)

@@ -4,35 +4,73 @@ Rows are method labels (in label order), columns conditions (``style/condition``
 sweep) of one world: where runs hold a condition of the same name on other databases, each
 world gets its own column, ``condition @ world`` (:mod:`homebench.analysis.worlds`). Each cell
 is ``estimate [lo, hi]`` from its run's summary table (the 95 % goal-bootstrap interval), ``--``
-where there is none (a method that gives no home direction has no direction metric). A method
-label found in several runs becomes one row per run, ``run: label``, when its method or
-parameters differ between them or when two of them hold it under the same column; otherwise
+where there is none (a method that gives no home direction has no direction metric). A metric
+that a method can flatter by abstaining is followed, where the method gave no estimate for some
+pairs, by what shows it (:data:`BOARD_METRICS`): an AHC cell reads ``AHC [lo, hi] / other AHC /
+no estimate [%]``, the AHC with a missing estimate as 90 deg beside the paper's (or the other
+way round) and the share of pairs without an estimate; a mean AE cell adds the share. The
+title names the runs' AHC definition; runs that define the AHC otherwise
+(:class:`~homebench.config.AhcConfig`) are not ranked on an AHC together.
+
+A method label found in several runs becomes one row per run, ``run: label``, when its method
+or parameters differ between them or when two of them hold it under the same column; otherwise
 its runs' cells share one row. The best estimate of each column as shown (largest AHC or RR,
-smallest mean AE; ties alike) is marked ``*``. The optional index page lists the table and
-links each run's report.
+smallest mean AE or share without an estimate; ties alike) is marked ``*``. The optional index
+page lists the table and links each run's report.
 """
 
 from __future__ import annotations
 
 import html
 import json
+import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 from pydantic import ValidationError
 
 from homebench.analysis.worlds import world_keys, world_label
-from homebench.config import MethodEntry
+from homebench.config import AhcConfig, MethodEntry
+from homebench.errors import DataError
 from homebench.fileio import write_text_atomic
-from homebench.report.compare import METRICS
 from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
 from homebench.report.run_set import load_grid_runs, run_labels
-from homebench.report.tables import MISSING_TEXT, TableView, make_view
+from homebench.report.tables import (
+    MISSING_TEXT,
+    SUMMARY_COLUMNS,
+    TableView,
+    ahc_header,
+    make_view,
+)
 
 BEST = " *"
+#: Between a cell's metric and what follows it.
+COMPANION_SEPARATOR = " / "
+
+
+@dataclass(frozen=True)
+class BoardMetric:
+    """A metric of the board (a summary column; header, digits and scale of
+    :data:`~homebench.report.tables.SUMMARY_COLUMNS`): whether larger is better, and the
+    summary columns its cells show after it (without their intervals)."""
+
+    larger_better: bool
+    companions: tuple[str, ...] = ()
+
+
+BOARD_METRICS = {
+    "ahc": BoardMetric(True, ("ahc_missing90", "no_estimate_share")),
+    "ahc_missing90": BoardMetric(True, ("ahc", "no_estimate_share")),
+    "rr": BoardMetric(True),
+    "mean_ae_deg": BoardMetric(False, ("no_estimate_share",)),
+    "no_estimate_share": BoardMetric(False),
+}
+#: Metrics that depend on how the runs define the AHC.
+AHC_METRICS = ("ahc", "ahc_missing90")
 #: Report documents an index page links, most browsable first.
 REPORT_FILES = ("report.html", "report.pdf", "report.md")
 
@@ -60,8 +98,9 @@ def method_configs(run: RunData) -> dict[str, str]:
     return configs
 
 
-def _cells(runs: Sequence[RunData], labels: Sequence[str], metric: str) -> pd.DataFrame:
-    """One row per (run, summary row): run, method, column, the metric, lo, hi, config."""
+def _cells(runs: Sequence[RunData], labels: Sequence[str], columns: Sequence[str]) -> pd.DataFrame:
+    """One row per (run, summary row): run, method, column, world, the summary's ``columns``
+    (the metric, its bounds and its companions), config."""
     records = []
     for label, run in zip(labels, runs, strict=True):
         configs = method_configs(run)
@@ -76,9 +115,7 @@ def _cells(runs: Sequence[RunData], labels: Sequence[str], metric: str) -> pd.Da
                 "method": row["method"],
                 "column": f"{style}/{row['condition']}" if swept else row["condition"],
                 "world": worlds.get((style if swept else "", row["condition"]), ""),
-                "estimate": row[metric],
-                "lo": row[f"{metric}_lo"],
-                "hi": row[f"{metric}_hi"],
+                **{name: row.get(name, math.nan) for name in columns},
                 "config": configs.get(row["method"], ""),
             })  # fmt: skip
     cells = pd.DataFrame(records)
@@ -117,29 +154,72 @@ def _row_labels(cells: pd.DataFrame) -> list[str]:
     ]
 
 
+def _ahc_settings(runs: Sequence[RunData], names: Sequence[str]) -> AhcConfig:
+    """The AHC settings the runs share; DataError naming two runs that define it otherwise."""
+    first = runs[0].metrics.ahc
+    for name, run in zip(names, runs, strict=True):
+        ahc = run.metrics.ahc
+        if (ahc.definition, ahc.missing) != (first.definition, first.missing):
+            raise DataError(
+                f"leaderboard: {names[0]} and {name} define the AHC otherwise "
+                f"({first.definition}, missing {first.missing}; {ahc.definition}, missing "
+                f"{ahc.missing}): their AHCs do not rank together; choose another --metric"
+            )
+    return first
+
+
+def _text(value: float, source: str) -> str:
+    """A summary value as its column shows it (scaled, rounded)."""
+    _, digits, scale = SUMMARY_COLUMNS[source]
+    return digits.text(value * scale)
+
+
+def _cell_text(cell: dict[str, Any], metric: str, best: bool) -> str:
+    """A cell of ``metric``: ``estimate [lo, hi]``, `` *`` when ``best``, then its companions
+    where the method gave no estimate for some pair; ``--`` without an estimate."""
+    if pd.isna(cell[metric]):
+        return MISSING_TEXT
+    low, high = (_text(cell[f"{metric}{end}"], metric) for end in ("_lo", "_hi"))
+    shown = [f"{_text(cell[metric], metric)} [{low}, {high}]{BEST if best else ''}"]
+    if cell["no_estimate_share"] > 0:
+        shown += [_text(cell[c], c) for c in BOARD_METRICS[metric].companions]
+    return COMPANION_SEPARATOR.join(shown)
+
+
+def _title(metric: str, ahc: AhcConfig) -> str:
+    """The board's title: what its cells show (AHC headers naming the runs' definition)."""
+    header, *companions = (ahc_header(SUMMARY_COLUMNS[c][0], ahc)
+                           for c in (metric, *BOARD_METRICS[metric].companions))  # fmt: skip
+    listed = COMPANION_SEPARATOR.join(companions)
+    then = f"; where a method gave no estimate for some pairs, then {listed}" if listed else ""
+    return (
+        f"{header} [95 % interval] per method and condition{then} ({BEST.strip()}: best "
+        f"{header} in its column)"
+    )
+
+
 def leaderboard(
     run_dirs: Sequence[Path], labels: Sequence[str] = (), metric: str = "ahc"
 ) -> Leaderboard:
-    """The ``metric`` (``ahc``, ``rr`` or ``mean_ae_deg``) of every method of the grid runs
-    in ``run_dirs`` under each condition, with the best of each column marked."""
-    header, digits, larger_better = METRICS[metric]
+    """The ``metric`` (a key of :data:`BOARD_METRICS`) of every method of the grid runs in
+    ``run_dirs`` under each condition, with its companions, the best of each column marked."""
+    board = BOARD_METRICS[metric]
     names = run_labels(run_dirs, labels)
-    cells = _cells(load_grid_runs(run_dirs), names, metric)
+    runs = load_grid_runs(run_dirs)
+    ahc = _ahc_settings(runs, names) if metric in AHC_METRICS else runs[0].metrics.ahc
+    columns = [metric, f"{metric}_lo", f"{metric}_hi", *board.companions, "no_estimate_share"]
+    cells = _cells(runs, names, list(dict.fromkeys(columns)))
     cells["row"] = _row_labels(cells)
-    cells["shown"] = [digits.round(float(v)) for v in cells["estimate"]]
-    best = cells.groupby("column")["shown"].transform("max" if larger_better else "min")
-    cells["text"] = [
-        MISSING_TEXT if pd.isna(e)
-        else f"{digits.text(e)} [{digits.text(lo)}, {digits.text(hi)}]" + (BEST if s == b else "")
-        for e, lo, hi, s, b in zip(cells["estimate"], cells["lo"], cells["hi"],
-                                   cells["shown"], best, strict=True)
-    ]  # fmt: skip
+    _, digits, scale = SUMMARY_COLUMNS[metric]
+    cells["shown"] = [digits.round(float(v) * scale) for v in cells[metric]]
+    best = cells.groupby("column")["shown"].transform("max" if board.larger_better else "min")
+    cells["text"] = [_cell_text(cell, metric, shown == top) for cell, shown, top in
+                     zip(cells.to_dict("records"), cells["shown"], best, strict=True)]  # fmt: skip
     order = cells.sort_values("method", kind="stable")  # a label's rows together, runs in order
     rows, columns = list(dict.fromkeys(order["row"])), list(dict.fromkeys(cells["column"]))
     wide = cells.pivot(index="row", columns="column", values="text").reindex(rows)[columns]
     frame = wide.fillna(MISSING_TEXT).rename_axis(index="method", columns=None).reset_index()
-    title = f"{header} per method and condition, 95 % interval ({BEST.strip()}: best in its column)"
-    view = make_view("leaderboard", title, frame, {})
+    view = make_view("leaderboard", _title(metric, ahc), frame, {})
     return Leaderboard(view, names, [Path(d) for d in run_dirs])
 
 

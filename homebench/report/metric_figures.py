@@ -157,12 +157,13 @@ def ahc_figure(
     panels: Sequence[ConditionPanel],
     styles: dict[str, MethodStyle],
     limits: tuple[float, float],
+    label: str = "AHC",
 ) -> Figure:
     """AHC per distance bin, one panel per condition, one line per method with its 95 % CI
     band (``ahc_lo`` to ``ahc_hi``); the pairs per bin (``n``) along the top axis.
 
     ``panels``: rows of :func:`homebench.analysis.tables.ahc_table` each; ``limits``: the
-    y-range of every panel (:func:`ahc_range` of the whole run).
+    y-range of every panel (:func:`ahc_range` of the whole run); ``label``: the AHC axis's.
     """
     fig, axes, outer = _condition_figure(len(panels), CONDITION_COLUMNS, sharex=False)
     width = _panel_width(fig, min(len(panels), CONDITION_COLUMNS))
@@ -177,7 +178,7 @@ def ahc_figure(
         if bottom:
             ax.set_xlabel("distance C to H [cm]")
         if first:
-            ax.set_ylabel("AHC")
+            ax.set_ylabel(label)
     handles = _method_handles(in_order(styles, methods), styles)
     handles.append(Patch(color=NEUTRAL, alpha=0.3, label="95 % CI"))
     legend_below(fig, handles, 6)

@@ -15,9 +15,10 @@ from homebench.errors import HomebenchError
 from homebench.methods import registry
 from homebench.methods.params import paper_statement
 from homebench.report.appendix import CONFIG_TITLE, DEFINITIONS_TITLE, ENVIRONMENT_TITLE, Appendix
+from homebench.report.definitions import bands_text
 from homebench.report.run_data import RunData, RunInfo
 from homebench.report.style import PAGE_SIZE, new_figure, stop_layout
-from homebench.report.tables import TableView
+from homebench.report.tables import AHC_MEANINGS, TableView
 
 #: Characters per line of the text pages, and lines per page.
 LINE_WIDTH = 120
@@ -116,8 +117,10 @@ def run_summary(run: RunData) -> dict[str, list[str]]:
             *(f"method {_method_text(entry)}" for entry in config.get("methods", [])),
         ],
         "Metrics": [
-            f"AHC bins: {ahc.bin_start_cm:g} to {ahc.bin_stop_cm:g} cm in steps of "
-            f"{ahc.bin_step_cm:g} cm; pairs without estimate: {ahc.missing}",
+            f"AHC: {AHC_MEANINGS[ahc.definition]}; bins: {ahc.bin_start_cm:g} to "
+            f"{ahc.bin_stop_cm:g} cm in steps of {ahc.bin_step_cm:g} cm; pairs without "
+            f"estimate: {ahc.missing}",
+            f"distance bands: {bands_text(metrics.band_edges_m)}",
             f"RR: step {rr.rh:g}, success radius {rr.success_radius:g}, max travel "
             f"{'half the perimeter' if rr.max_travel is None else f'{rr.max_travel:g}'} "
             "(grid units)",

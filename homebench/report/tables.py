@@ -1,10 +1,14 @@
 """Report tables: the run's metric tables with units in the headers, rounded, as CSV / MD / TeX
 and as console text.
 
-Four views of a run's tables (``homebench.evaluation.results``): the method x condition
-summary, the return ratio per goal (seed 001, Figure 10 as a table), the AHC per distance bin
-(Figure 9 as a table) and the paired comparisons of the methods. Rows follow the run's config:
-conditions, then methods, in the order the config lists them (:class:`RowOrder`).
+Views of a run's tables (``homebench.evaluation.results``): the headline (the summary's main
+columns: AHC beside the AHC with a missing estimate as 90 deg and the share without an
+estimate, so that a method that abstains does not rank above its homing; also printed by
+``homebench run``), the metrics per distance band, the method x condition summary, the return
+ratio per goal (seed 001, Figure 10 as a table), the AHC per distance bin (Figure 9 as a table)
+and the paired comparisons of the methods. An AHC header names the run's AHC definition when it
+is not the default (:func:`ahc_header`). Rows follow the run's config: conditions, then
+methods, in the order the config lists them (:class:`RowOrder`).
 
 Each view is a numeric frame rounded once, one precision rule (:class:`Digits`) per column.
 A metric with a 95 % interval keeps its bounds as columns ``<header> lo`` and ``<header> hi``
@@ -28,8 +32,8 @@ import numpy as np
 import pandas as pd
 from pydantic import ValidationError
 
-from homebench.analysis.tables import RunTables
-from homebench.config import MethodEntry
+from homebench.analysis.tables import FLIP_DEG, RunTables
+from homebench.config import AhcConfig, MethodEntry
 from homebench.fileio import write_text_atomic
 from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
 
@@ -265,6 +269,7 @@ SUMMARY_COLUMNS = {
     "mean_ae_deg": ("mean AE [deg]", FIXED2, 1.0),
     "median_ae_deg": ("median AE [deg]", FIXED2, 1.0),
     "rotation_error_deg": ("rotation error [deg]", FIXED2, 1.0),
+    "rotation_flip_share": ("rotation flips [%]", FIXED1, 100.0),
     "ahc": ("AHC", FIXED3, 1.0),
     "ahc_missing90": ("AHC (no estimate = 90 deg)", FIXED3, 1.0),
     "rr": ("RR", FIXED3, 1.0),
@@ -272,9 +277,9 @@ SUMMARY_COLUMNS = {
     "describe_ms": ("describe [ms/image]", SIGNIFICANT3, 1.0),
     "home_ms": ("home [ms/pair]", SIGNIFICANT3, 1.0),
 }
-#: Summary columns left out of the view when no method has a value (no method of the run
-#: reports rotations).
-OPTIONAL = ("rotation_error_deg",)
+#: Columns left out of a view when no row has a value (no method of the run reports
+#: rotations).
+OPTIONAL = ("rotation_error_deg", "rotation_flip_share")
 #: Summary columns marked where a method is significantly best: source column -> (metric of
 #: :func:`~homebench.analysis.comparisons.comparison_table`, whether lower is better).
 MARKED = {
@@ -294,28 +299,91 @@ SIGNIFICANCE_NOTE = (
     f"comparisons, within each style; AE and AHC compared with a missing estimate as 90 deg)."
 )
 
+#: The AHC definition of a run that names none, how a header names a definition when a run
+#: uses another one (:func:`ahc_header`), and what each definition is.
+DEFAULT_AHC = AhcConfig()
+AHC_TAGS = {"cos_mean_ae": "eq. 12", "mean_cos": "mean cos"}
+AHC_MEANINGS = {
+    "cos_mean_ae": "the cosine of the mean AE (seed 001, eq. 12)",
+    "mean_cos": "the mean of cos(AE) (as Vardy & Moeller report it)",
+}
+#: The header of the AHC with a missing estimate as 90 deg in the console, where the
+#: headline's is too wide.
+SHORT_AHC90 = "AHC90"
 
-METRICS_NOTE = (
-    "AE over the pairs with an estimate; AHC as configured (the paper's: pairs without an "
-    "estimate left out); RR over the goals whose home field covers the grid; --: no value (a "
-    "method that gives no home direction has no AE, AHC or RR)."
-)
+
+def ahc_header(header: str, ahc: AhcConfig = DEFAULT_AHC) -> str:
+    """``header`` naming the run's AHC definition when it is not the default one: "AHC" ->
+    "AHC (mean cos)", "AHC (no est. = 90 deg)" -> "AHC (mean cos; no est. = 90 deg)"; every
+    other header as it is."""
+    if ahc.definition == DEFAULT_AHC.definition or not re.fullmatch(r"AHC( \(.*\))?", header):
+        return header
+    tag = AHC_TAGS[ahc.definition]
+    return f"AHC ({tag})" if header == "AHC" else f"AHC ({tag}; {header[len('AHC (') :]}"
+
+
+#: What each metric column of a view is (after its header; see :func:`metrics_note`).
+MEANINGS = {
+    "no_estimate_share": "the pairs for which the method gave no estimate",
+    "mean_ae_deg": "over the pairs with an estimate",
+    "rotation_flip_share": f"rotation estimates off by more than {FLIP_DEG:g} deg",
+    "ahc_missing90": "the same with a missing estimate counted as 90 deg, so that a method "
+    "gains nothing by abstaining",
+    "rr": "over the goals whose home field covers the grid",
+}
+
+
+def metrics_note(headers: dict[str, str], ahc: AhcConfig = DEFAULT_AHC) -> str:
+    """What the metric columns of a view are, in its order: ``headers``, source -> header of
+    the columns it shows; ``ahc``, the run's AHC settings."""
+    kept = (
+        "over the pairs with an estimate (the paper's reading)"
+        if ahc.missing == "exclude"
+        else "with a missing estimate as 90 deg (metrics.ahc.missing)"
+    )
+    meanings = {**MEANINGS, "ahc": f"{AHC_MEANINGS[ahc.definition]}, {kept}"}
+    said = [f"{header}: {meanings[source]}" for source, header in headers.items()
+            if source in meanings]  # fmt: skip
+    missing = "--: no value (a method that gives no home direction has no AE, AHC or RR)."
+    return "; ".join([*said, missing])
+
+
 #: The headline table's columns: summary source -> header (digits and scale as in
-#: SUMMARY_COLUMNS), and those shown with their interval.
+#: SUMMARY_COLUMNS), and those shown with their interval; the console's, narrower.
 HEADLINE_COLUMNS = {
     "ahc": "AHC",
+    "ahc_missing90": "AHC (no est. = 90 deg)",
+    "no_estimate_share": "no est. [%]",
     "rr": "RR",
     "mean_ae_deg": "mean AE [deg]",
-    "no_estimate_share": "no est. [%]",
+    "rotation_error_deg": "rotation error [deg]",
+    "rotation_flip_share": "rotation flips [%]",
     "home_ms": "home [ms]",
 }
 HEADLINE_INTERVALS = ("ahc", "rr")
+CONSOLE_COLUMNS = {
+    source: SHORT_AHC90 if source == "ahc_missing90" else header
+    for source, header in HEADLINE_COLUMNS.items()
+    if not source.startswith("rotation")
+}
 CONSOLE_INTERVALS = ("ahc",)
 HEADLINE_NOTE = (
-    "home: ms per pair. Every column (pairs, median AE, rotation error, AHC with a missing "
-    "estimate as 90 deg, catchment, describe time, all intervals): the summary table in tables/ "
-    "(csv, md, tex)."
+    "home: ms per pair. Every column with its interval (pairs, median AE, rotation error and "
+    "flips, catchment, describe time): the summary table in tables/ (csv, md, tex); per "
+    "distance band: the band table."
 )
+#: The band table's columns: band table source -> header (digits and scale as in
+#: SUMMARY_COLUMNS), and those shown with their interval.
+BAND_COLUMNS = {
+    "pairs": "pairs",
+    "ahc": "AHC",
+    "ahc_missing90": "AHC (no est. = 90 deg)",
+    "no_estimate_share": "no est. [%]",
+    "mean_ae_deg": "mean AE [deg]",
+    "rotation_error_deg": "rotation error [deg]",
+    "rotation_flip_share": "rotation flips [%]",
+}
+BAND_INTERVALS = ("ahc", "no_estimate_share", "mean_ae_deg")
 
 
 def swept(table: pd.DataFrame) -> list[str]:
@@ -384,6 +452,42 @@ def significant_cells(
     return frozenset(cells)
 
 
+@dataclass(frozen=True)
+class _MetricColumns:
+    """A table's factors and metric columns as :func:`make_view` takes them, and ``shown``:
+    source -> header of each metric column shown."""
+
+    frame: pd.DataFrame
+    digits: dict[str, Digits]
+    bounds: dict[str, tuple[str, str]]
+    shown: dict[str, str]
+
+
+def _metric_columns(
+    table: pd.DataFrame,
+    factors: list[str],
+    headers: dict[str, str],
+    intervals: Collection[str] | None,
+    ahc: AhcConfig,
+) -> _MetricColumns:
+    """``table``'s ``factors``, then its columns ``headers`` (source -> header, AHC headers
+    naming the run's definition, ``ahc``; digits and scale of SUMMARY_COLUMNS; a source it
+    lacks, or an OPTIONAL one without a value, left out), those in ``intervals`` (None: every
+    one that has bounds) with their bounds."""
+    frame = table[factors].copy()
+    digits, bounds, shown = {}, {}, {}
+    for source, header in headers.items():
+        if source not in table.columns or (source in OPTIONAL and table[source].isna().all()):
+            continue
+        _, rule, scale = SUMMARY_COLUMNS[source]
+        shown[source] = ahc_header(header, ahc)
+        digits[shown[source]] = rule
+        values = table if intervals is None or source in intervals else table[[source]]
+        ends = _bounded(frame, shown[source], values, source, scale)
+        bounds |= {shown[source]: ends} if ends else {}
+    return _MetricColumns(frame, digits, bounds, shown)
+
+
 def _summary_columns(
     name: str,
     title: str,
@@ -392,54 +496,80 @@ def _summary_columns(
     comparisons: pd.DataFrame,
     headers: dict[str, str],
     intervals: Collection[str] | None,
-    notes: tuple[str, ...],
+    ahc: AhcConfig,
+    notes: tuple[str, ...] = (),
     grouped: bool = False,
 ) -> TableView:
     """A view of the summary's rows in ``order`` (swept world, condition, method) and its
-    columns ``headers`` (source -> header; digits and scale of SUMMARY_COLUMNS), those in
-    ``intervals`` (None: every one that has bounds) with their interval; significantly best
-    cells (``comparisons``: the run's method comparisons) marked."""
+    columns ``headers`` (:func:`_metric_columns`), significantly best cells (``comparisons``:
+    the run's method comparisons) marked; the interval and metric notes, then ``notes``."""
     summary = order.sort(summary)
-    frame = summary[[*swept(summary), "condition", "method"]].copy()
-    digits, bounds = {}, {}
-    for source, header in headers.items():
-        if source not in summary.columns or (source in OPTIONAL and summary[source].isna().all()):
-            continue
-        _, rule, scale = SUMMARY_COLUMNS[source]
-        digits[header] = rule
-        values = summary if intervals is None or source in intervals else summary[[source]]
-        ends = _bounded(frame, header, values, source, scale)
-        bounds |= {header: ends} if ends else {}
-    marked = {(row, headers[column]) for row, column in significant_cells(summary, comparisons)
-              if headers.get(column) in digits}  # fmt: skip
-    return make_view(name, title, frame, digits, bounds, frozenset(marked), SIGNIFICANCE_NOTE,
-                     notes, grouped)  # fmt: skip
+    factors = [*swept(summary), "condition", "method"]
+    columns = _metric_columns(summary, factors, headers, intervals, ahc)
+    marked = {(row, columns.shown[column])
+              for row, column in significant_cells(summary, comparisons)
+              if column in columns.shown}  # fmt: skip
+    notes = (INTERVAL_NOTE, metrics_note(columns.shown, ahc), *notes)
+    return make_view(name, title, columns.frame, columns.digits, columns.bounds,
+                     frozenset(marked), SIGNIFICANCE_NOTE, notes, grouped)  # fmt: skip
 
 
-def summary_view(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFrame) -> TableView:
+def summary_view(
+    summary: pd.DataFrame,
+    order: RowOrder,
+    comparisons: pd.DataFrame,
+    ahc: AhcConfig = DEFAULT_AHC,
+) -> TableView:
     """Method x condition summary (per swept style) in ``order``: goals, pairs, share without
-    estimate, AE, AHC (the paper's and with a missing estimate as 90 deg), RR, catchment,
-    times; each metric with its interval; significantly best cells (``comparisons``: the
-    run's :func:`~homebench.analysis.tables.method_comparisons`) marked."""
+    estimate, AE, rotation error and flips, AHC (the paper's and with a missing estimate as
+    90 deg; ``ahc``: the run's AHC settings), RR, catchment, times; each metric with its
+    interval; significantly best cells (``comparisons``: the run's
+    :func:`~homebench.analysis.tables.method_comparisons`) marked."""
     headers = {source: header for source, (header, _, _) in SUMMARY_COLUMNS.items()}
     title = "Summary per condition and method: estimate [95 % interval]"
-    return _summary_columns("summary", title, summary, order, comparisons, headers, None,
-                            (INTERVAL_NOTE, METRICS_NOTE))  # fmt: skip
+    return _summary_columns("summary", title, summary, order, comparisons, headers, None, ahc)
 
 
 def headline_view(
     summary: pd.DataFrame,
     order: RowOrder,
     comparisons: pd.DataFrame,
-    intervals: Collection[str] = HEADLINE_INTERVALS,
+    ahc: AhcConfig = DEFAULT_AHC,
+    console: bool = False,
 ) -> TableView:
-    """The summary's HEADLINE_COLUMNS (AHC, RR, mean AE, share without estimate, home time),
-    those in ``intervals`` with their interval, marks as in :func:`summary_view`: the report's
-    first table and, with the AHC interval alone, the console summary of ``homebench run``."""
+    """The summary's HEADLINE_COLUMNS (AHC, AHC with a missing estimate as 90 deg and the
+    share without estimate beside it, RR, mean AE, rotation error and flips, home time),
+    HEADLINE_INTERVALS with their interval, marks as in :func:`summary_view`: the report's
+    first table; ``console``: the narrower CONSOLE_COLUMNS, CONSOLE_INTERVALS alone with their
+    interval (the summary ``homebench run`` prints)."""
     title = "Results per condition and method: estimate [95 % interval]"
-    return _summary_columns("headline", title, summary, order, comparisons, HEADLINE_COLUMNS,
-                            intervals, (INTERVAL_NOTE, METRICS_NOTE, HEADLINE_NOTE),
-                            grouped=True)  # fmt: skip
+    headers, intervals = (
+        (CONSOLE_COLUMNS, CONSOLE_INTERVALS) if console else (HEADLINE_COLUMNS, HEADLINE_INTERVALS)
+    )
+    return _summary_columns("headline", title, summary, order, comparisons, headers, intervals,
+                            ahc, (HEADLINE_NOTE,), grouped=True)  # fmt: skip
+
+
+def band_view(bands: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC) -> TableView:
+    """The metrics per distance band (:func:`~homebench.analysis.tables.band_table`) of each
+    condition and method in ``order``, the nearest band first, bands without a pair left out:
+    BAND_COLUMNS (AHC headers naming the run's definition, ``ahc``), BAND_INTERVALS with their
+    interval."""
+    held = bands[bands["pairs"] > 0].rename(columns={"band": "distance"})
+    bands = order.sort(held, then=["low_m"])
+    factors = [*swept(bands), "condition", "method", "distance"]
+    columns = _metric_columns(bands, factors, BAND_COLUMNS, BAND_INTERVALS, ahc)
+    title = (
+        "Results per band of distance between current and goal position: estimate [95 % interval]"
+    )
+    notes = (
+        INTERVAL_NOTE,
+        metrics_note(columns.shown, ahc),
+        "Each band's metrics are over its own pairs, so a method that homes well near the "
+        "goal and fails far from it is not hidden in one mean over every distance.",
+    )
+    return make_view("bands", title, columns.frame, columns.digits, columns.bounds,
+                     notes=notes, grouped=True)  # fmt: skip
 
 
 def _pivot(
@@ -464,12 +594,15 @@ def rr_by_goal_view(goals: pd.DataFrame, order: RowOrder) -> TableView:
     return make_view("rr_by_goal", title, frame, dict.fromkeys(methods, FIXED3))
 
 
-def ahc_by_distance_view(ahc: pd.DataFrame, order: RowOrder) -> TableView:
-    """AHC per distance bin with its interval, one column per method (Figure 9 as a table).
+def ahc_by_distance_view(
+    table: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC
+) -> TableView:
+    """AHC per distance bin with its interval, one column per method (Figure 9 as a table;
+    ``table``: the run's AHC table, ``ahc``: its settings).
 
     The "all" row (in the summary) and bins without any pair are left out.
     """
-    binned = ahc[(ahc["bin"] != "all") & (ahc["n"] > 0)]
+    binned = table[(table["bin"] != "all") & (table["n"] > 0)]
     index = [*swept(binned), "condition", "centre_cm"]
     wide, methods = _pivot(binned, index, "ahc", order)
     frame = wide.rename(columns={"centre_cm": "distance [cm]"})
@@ -480,7 +613,11 @@ def ahc_by_distance_view(ahc: pd.DataFrame, order: RowOrder) -> TableView:
             frame[name] = _pivot(binned, index, end, order)[0][method]
         bounds[method] = ends
     digits = {"distance [cm]": FIXED0, **dict.fromkeys(methods, FIXED3)}
-    title = "AHC by distance between current and goal position (bin centres): AHC [95 % interval]"
+    name = ahc_header("AHC", ahc)
+    title = (
+        f"{name} by distance between current and goal position (bin centres): "
+        f"{name} [95 % interval]"
+    )
     return make_view("ahc_by_distance", title, frame, digits, bounds, notes=(INTERVAL_NOTE,))
 
 
@@ -497,10 +634,12 @@ def _oriented(comparisons: pd.DataFrame, order: RowOrder) -> pd.DataFrame:
     return out
 
 
-def comparisons_view(comparisons: pd.DataFrame, order: RowOrder) -> TableView:
+def comparisons_view(
+    comparisons: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC
+) -> TableView:
     """The paired comparisons of the methods per condition (``comparisons``: the run's
     :func:`~homebench.analysis.tables.method_comparisons`), in ``order``: B - A with its
-    interval and both Holm-adjusted p-values."""
+    interval and both Holm-adjusted p-values; the AHC named by its definition (``ahc``)."""
     oriented = _oriented(comparisons, order)
     ranks = order.method_ranks([*oriented["method_a"], *oriented["method_b"]])
     oriented = order.sort(
@@ -512,7 +651,7 @@ def comparisons_view(comparisons: pd.DataFrame, order: RowOrder) -> TableView:
         then=["metric_rank", "a_rank", "b_rank"],
     )
     frame = oriented[[*swept(oriented), "condition"]].copy()
-    frame["metric"] = [SUMMARY_COLUMNS[m][0] for m in oriented["metric"]]
+    frame["metric"] = [ahc_header(SUMMARY_COLUMNS[m][0], ahc) for m in oriented["metric"]]
     frame["A"], frame["B"] = oriented["method_a"], oriented["method_b"]
     renamed = oriented.rename(columns={"lo": "difference_lo", "hi": "difference_hi"})
     ends = _bounded(frame, "B - A", renamed, "difference")
@@ -534,18 +673,20 @@ def comparisons_view(comparisons: pd.DataFrame, order: RowOrder) -> TableView:
 
 
 def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
-    """The report tables of a run in ``order``, the headline first (none when the run has no
-    results; no comparisons with a single method)."""
+    """The report tables of a run in ``order``, the headline first, then the distance bands
+    (none when the run has no results; no comparisons with a single method, no bands in
+    tables made without them)."""
     if tables.pairs.empty:
         return []
-    comparisons = tables.comparisons
+    comparisons, ahc = tables.comparisons, tables.metrics.ahc
     views = [
-        headline_view(tables.summary, order, comparisons),
-        summary_view(tables.summary, order, comparisons),
+        headline_view(tables.summary, order, comparisons, ahc),
+        *([band_view(tables.bands, order, ahc)] if len(tables.bands) else []),
+        summary_view(tables.summary, order, comparisons, ahc),
         rr_by_goal_view(tables.goals, order),
-        ahc_by_distance_view(tables.ahc, order),
+        ahc_by_distance_view(tables.ahc, order, ahc),
     ]
-    return views + ([comparisons_view(comparisons, order)] if len(comparisons) else [])
+    return views + ([comparisons_view(comparisons, order, ahc)] if len(comparisons) else [])
 
 
 # --------------------------------------------------------------------------- writers
@@ -577,10 +718,17 @@ def to_text(view: TableView, width: int = CONSOLE_WIDTH) -> str:
     return "\n".join([*title, *body, *notes])
 
 
-def console_summary(summary: pd.DataFrame, order: RowOrder, comparisons: pd.DataFrame) -> str:
-    """The summary ``homebench run`` prints: the headline table with the AHC interval alone,
-    within CONSOLE_WIDTH columns for the usual condition and method names."""
-    return to_text(headline_view(summary, order, comparisons, CONSOLE_INTERVALS))
+def console_summary(
+    summary: pd.DataFrame,
+    order: RowOrder,
+    comparisons: pd.DataFrame,
+    ahc: AhcConfig = DEFAULT_AHC,
+) -> str:
+    """The summary ``homebench run`` prints: the headline table's console view (AHC, AHC with
+    a missing estimate as 90 deg, share without estimate, RR, mean AE, home time; ``ahc``: the
+    run's AHC settings), within CONSOLE_WIDTH columns for the usual condition and method
+    names."""
+    return to_text(headline_view(summary, order, comparisons, ahc, console=True))
 
 
 def _columns(columns: list[list[str]], alignment: list[str]) -> list[str]:
