@@ -246,6 +246,9 @@ def test_a_route_run_follows_and_probes_with_both_families(tmp_path: Path) -> No
     pairs = set(zip(paired["A"], paired["B"], strict=True))
     assert {("perfect-memory", "warping"), ("infomax", "warping")} <= pairs
     assert (paired["trials"] == 1).all()
+    # one RIDF figure per memory method (the station halfway along), none for warping
+    ridfs = sorted(path.name for path in (report / "figures").glob("ridf_*.png"))
+    assert [name.split("_")[1] for name in ridfs] == ["infomax", "perfect-memory"]
 
 
 CLOSED_LOOP = {

@@ -26,6 +26,7 @@ from pydantic import BaseModel, ValidationError
 from homebench.errors import DataError
 from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
 from homebench.experiments.route.experiment import RouteJob, RouteTrial, route_jobs
+from homebench.experiments.route.probes import ridf_figure
 from homebench.experiments.trials import read_trial
 from homebench.report.pages import environment_lines, run_lines
 from homebench.report.route_compare import (
@@ -88,13 +89,15 @@ LENGTH_COLUMNS: Columns = {
 
 @dataclass(frozen=True)
 class TrialData:
-    """One finished job: its trial, the method's ``label``, its ``summary`` (the table's row)
-    and its poses."""
+    """One finished job: its trial, the method's ``label``, its ``summary`` (the table's row),
+    its poses and, for a route-learning method probed along its route, the ``probes`` rows
+    (:mod:`homebench.experiments.route.probes`, each with its RIDF)."""
 
     trial: RouteTrial
     label: str
     summary: dict[str, Any]
     result: RouteResult
+    probes: list[dict[str, Any]] | None = None
 
 
 @dataclass(frozen=True)
@@ -131,7 +134,10 @@ def _trial_data(record: dict[str, Any], trial: RouteTrial, label: str) -> TrialD
         label, record["outbound"], record["homing"], record["intermediate"],
         record["odometry"], trial=trial.name, planned_length_m=trial.length,
     )  # fmt: skip
-    return TrialData(trial, label, {**summary, "method": label}, result)
+    probes = record.get("probes")
+    if probes is not None and not isinstance(probes, list):
+        raise TypeError("'probes' is not a list")
+    return TrialData(trial, label, {**summary, "method": label}, result, probes)
 
 
 def _load_trial(job: RouteJob, run_dir: Path) -> TrialData | str:
@@ -375,8 +381,35 @@ def _compared_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
         yield f"trajectories_{name}", "Trajectories", caption, route_figure(results, styles)
 
 
+def _ridf_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
+    """Per route-learning method, the RIDFs of its first probed trial at the probe station
+    halfway along the route, one curve per distance beside it."""
+    shown: set[str] = set()
+    for trial in run.trials:
+        if not trial.probes or trial.label in shown:
+            continue
+        shown.add(trial.label)
+        stations = sorted({row["along_m"] for row in trial.probes})
+        along = stations[len(stations) // 2]
+        caption = (
+            f"Rotational image difference functions of {trial.label}, trial {trial.trial.name}, "
+            f"{along:g} m from home along the route: unfamiliarity against the direction "
+            "relative to the route's way home, one curve per offset beside the route"
+        )
+        title = f"{trial.label}: RIDF {along:g} m from home"
+        figure = ridf_figure(trial.probes, along, title)
+        yield f"ridf_{trial.label}_{trial.trial.name}", "RIDFs", caption, figure
+
+
 def route_run_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
-    """(file stem, section, caption, figure): the final errors, then the trajectories."""
+    """(file stem, section, caption, figure): the final errors, then the trajectories, then
+    the route-learning methods' RIDFs."""
+    yield from _run_figures(run)
+    yield from _ridf_figures(run)
+
+
+def _run_figures(run: RouteRun) -> Iterator[tuple[str, str, str, Figure]]:
+    """The final errors, then the trajectories."""
     if run.compared:
         yield from _compared_figures(run)
         return
