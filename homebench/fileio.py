@@ -25,7 +25,13 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.errors import CorruptImageError, DataError, ImageSizeError, WriteError
+from homebench.errors import (
+    CorruptImageError,
+    DataError,
+    HomebenchError,
+    ImageSizeError,
+    WriteError,
+)
 from homebench.image_header import MAX_IMAGE_PIXELS, ImageHeader, read_header, truncation
 from homebench.orphans import TMP_SUFFIX, lock, locked_folder, sweep_once
 
@@ -77,6 +83,33 @@ def open_regular(path: Path) -> BinaryIO:
     except BaseException:
         os.close(fd)
         raise
+
+
+def read_small_text(
+    path: Path, limit: int, what: str, error: type[HomebenchError] = DataError
+) -> str:
+    """The UTF-8 text (a leading byte-order mark dropped) of the regular file ``path`` of at
+    most ``limit`` bytes; ``error`` naming the file and the ``what`` otherwise: missing,
+    unreadable, too large or not UTF-8 (nothing is read from a FIFO, a device or a folder:
+    :func:`open_regular`)."""
+    try:
+        with open_regular(path) as f:
+            data = f.read(limit + 1)
+    except FileNotFoundError:
+        raise error(f"{path}: no such {what}") from None
+    except OSError as problem:
+        raise error(f"{path}: cannot read the {what} ({problem.strerror or problem})") from None
+    if len(data) > limit:
+        raise error(f"{path}: the {what} is larger than the {size_text(limit)} limit")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as problem:
+        raise error(f"{path}: the {what} is not UTF-8 text ({problem})") from None
+
+
+def size_text(n_bytes: int) -> str:
+    """A size limit as people read it: "16 MiB"."""
+    return f"{n_bytes / (1 << 20):g} MiB"
 
 
 def _current_umask() -> int:

@@ -25,7 +25,7 @@ from yaml.constructor import SafeConstructor
 from yaml.resolver import Resolver
 
 from homebench.errors import ConfigError
-from homebench.fileio import open_regular
+from homebench.fileio import read_small_text, size_text
 
 try:  # libyaml scans and parses about 50 times faster than PyYAML's own Python code
     from yaml.cyaml import CParser as _EventParser
@@ -56,25 +56,9 @@ MAX_REPORTED_ERRORS = 20
 
 
 def _read(path: Path, what: str) -> str:
-    """The text of a regular file of at most MAX_YAML_BYTES; ConfigError otherwise (nothing is
-    read from a FIFO, a device or a folder: see fileio.open_regular)."""
-    try:
-        with open_regular(path) as f:
-            data = f.read(MAX_YAML_BYTES + 1)
-    except FileNotFoundError:
-        raise ConfigError(f"{path}: no such {what}") from None
-    except OSError as error:
-        raise ConfigError(f"{path}: cannot read the {what} ({error.strerror or error})") from None
-    if len(data) > MAX_YAML_BYTES:
-        raise ConfigError(f"{path}: the {what} is larger than the {_size(MAX_YAML_BYTES)} limit")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as error:
-        raise ConfigError(f"{path}: the {what} is not UTF-8 text ({error})") from None
-
-
-def _size(n_bytes: int) -> str:
-    return f"{n_bytes / (1 << 20):g} MiB"
+    """The text of a regular file of at most MAX_YAML_BYTES; ConfigError otherwise
+    (:func:`homebench.fileio.read_small_text`)."""
+    return read_small_text(path, MAX_YAML_BYTES, what, ConfigError)
 
 
 def load_model(model: type[M], path: Path, what: str = "file", overrides: Sequence[str] = ()) -> M:
@@ -130,7 +114,9 @@ def apply_overrides(data: dict[str, Any], overrides: Sequence[str], origin: str)
 def _parse_mapping(text: str, origin: str, what: str) -> tuple[dict[str, Any], yaml.Node]:
     """The YAML mapping in ``text`` and its node (for line numbers); ConfigError otherwise."""
     if len(text) > MAX_YAML_BYTES:
-        raise ConfigError(f"{origin}: the {what} is larger than the {_size(MAX_YAML_BYTES)} limit")
+        raise ConfigError(
+            f"{origin}: the {what} is larger than the {size_text(MAX_YAML_BYTES)} limit"
+        )
     try:
         node, data = _load(text, origin, what)
     except yaml.MarkedYAMLError as error:

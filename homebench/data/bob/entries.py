@@ -25,9 +25,9 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.data.bob.layout import read_text
 from homebench.data.manifest import MAX_GRID_POSITIONS, outside_problem
 from homebench.errors import DataError
+from homebench.fileio import read_small_text
 
 #: Most rows (images) of a database, as many as a manifest's grid may have positions.
 MAX_ENTRIES = MAX_GRID_POSITIONS
@@ -62,7 +62,7 @@ class Entries:
 
 def read_entries(path: Path) -> Entries:
     """The entries of ``path``; DataError naming the file and line of the first problem."""
-    text = read_text(path, MAX_ENTRIES_BYTES, "entries file")
+    text = read_small_text(path, MAX_ENTRIES_BYTES, "entries file")
     reader = csv.reader(io.StringIO(text, newline=""), skipinitialspace=True, strict=True)
     try:
         header = next(reader, None)

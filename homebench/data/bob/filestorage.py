@@ -19,7 +19,7 @@ from typing import TypeVar
 import yaml
 from pydantic import BaseModel
 
-from homebench.data.bob.layout import read_text
+from homebench.fileio import read_small_text
 from homebench.yamlio import MAX_YAML_BYTES, parse_model
 
 M = TypeVar("M", bound=BaseModel)
@@ -38,7 +38,7 @@ except ImportError:  # a PyYAML built without libyaml
 def read_filestorage(path: Path, model: type[M], what: str) -> M:
     """The OpenCV FileStorage YAML file ``path`` validated against ``model`` (``what`` names
     it in errors); DataError or ConfigError naming the file (and line) otherwise."""
-    text = read_text(path, MAX_YAML_BYTES, what)
+    text = read_small_text(path, MAX_YAML_BYTES, what)
     return parse_model(model, as_yaml(text), str(path), what)
 
 
