@@ -13,8 +13,11 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 from conftest import run_config
 
+from homebench.data.generate import manifest_for_spec
+from homebench.data.manifest import Manifest
 from homebench.data.synth.camera import (
     SATURATION_RADIANCE,
     Camera,
@@ -159,6 +162,53 @@ def test_noise_is_seeded_per_stream_and_absent_outside_the_light_mask():
     assert np.array_equal(a, camera.read_out(scene, exposure, 9, 0, mask))
     assert not np.array_equal(a, camera.read_out(scene, exposure, 9, 1, mask))
     assert np.all(a[:10] == 0)
+
+
+def test_an_ideal_sensor_reads_out_without_noise_and_keeps_old_keys():
+    scene = _scene(6)
+    ideal = _camera(noise=False)
+    exposure = ideal.meter(scene)
+    clean = _camera().read_out(scene, exposure, None, 0)
+    assert np.array_equal(ideal.read_out(scene, exposure, 9, 0), clean)
+    assert WorldSpec(camera={"noise": True}).key() == WorldSpec().key()
+    assert WorldSpec(camera={"noise": False}).key() != WorldSpec().key()
+
+
+#: World keys of the code before ``noise`` and ``tilt_deg`` (the shipped worlds' cache folders
+#: and manifests name them): the new fields must leave every such spec's key as it was.
+SHIPPED_KEYS = [
+    ({}, "572935aa118e4e34"),
+    ({"variant": "day"}, "574d166735257172"),
+    ({"style": "lab"}, "4cf4c80c31c5e4ba"),
+    ({"style": "outdoor", "variant": "day"}, "4a4f5dc96511a139"),
+    ({"render": "landmarks"}, "93aefb6e055e3a83"),
+    ({"camera": {"exposure": "fixed"}}, "6e5e8807f823ae3c"),
+]
+
+
+@pytest.mark.parametrize(("fields", "key"), SHIPPED_KEYS)
+def test_shipped_world_keys_do_not_change(fields, key):
+    assert WorldSpec(**fields).key() == key
+
+
+def test_a_tilted_camera_is_a_new_world_and_landmark_images_refuse_it():
+    assert WorldSpec(camera={"tilt_deg": 2}).key() != SHIPPED_KEYS[0][1]
+    with pytest.raises(ValueError, match="tilt_deg applies to photographs"):
+        WorldSpec(render="landmarks", camera={"tilt_deg": 2})
+
+
+@pytest.mark.parametrize("camera", [{}, {"tilt_deg": 2, "noise": False}])
+def test_a_manifest_writes_the_new_fields_only_when_set(camera):
+    """A generated set's manifest holds the spec as its key does: a default camera's manifest
+    names neither field, so the homebench that wrote such sets before still reads it (a run of
+    an older checkout over the same cache refused it: 'Extra inputs are not permitted')."""
+    spec = WorldSpec(camera=camera)
+    data = yaml.safe_load(manifest_for_spec(spec, "synth").to_yaml())
+    written = data["generator"]["spec"]
+    assert {"tilt_deg", "noise"} & written["camera"].keys() == camera.keys()
+    assert "render" not in written
+    reread = Manifest.model_validate(data)
+    assert reread.generator is not None and reread.generator.spec.key() == spec.key()
 
 
 # ---------------------------------------------------------------- the rendered worlds

@@ -528,8 +528,8 @@ class Manifest(_Strict):
             fingerprints = section.pop("fingerprints")
             if fingerprints:
                 section["fingerprints"] = fingerprints
-        if self.generator is not None:  # every spec field, None included: the spec is exact
-            data["generator"]["spec"] = self.generator.spec.model_dump(mode="json")
+        if self.generator is not None:  # every keyed spec field, None included: the spec is exact
+            data["generator"]["spec"] = self.generator.spec.canonical_data()
         return yaml.dump(data, Dumper=_Dumper, sort_keys=False, allow_unicode=True, width=100)
 
 

@@ -30,8 +30,14 @@ decided once, and the raw catadioptric image and the unfolded panorama are two r
    or none (``response: linear``), and rounding to 8 bits.
 
 Noise is seeded per read-out (a seed from the caller), never by the scene, so two renders of
-one pose with one seed are bit-identical. Pixels outside the mirror's annulus of a raw image
-see no light and are black.
+one pose with one seed are bit-identical; ``noise: false`` reads out without it (an ideal
+sensor). Pixels outside the mirror's annulus of a raw image see no light and are black.
+
+The **mount** comes before all of it: a real robot's camera axis is never quite vertical.
+``tilt_deg`` > 0 tilts the axis of each capture by a seeded random angle up to ``tilt_deg``
+towards a random direction (:mod:`homebench.data.synth.tilt`; the world applies it to the
+scene's radiance before the optics, so the blur, the fall-off and the metering act in the
+tilted camera's frame, as they would).
 """
 
 from __future__ import annotations
@@ -74,7 +80,9 @@ class CameraSpec(BaseModel):
     max_gain: float = Field(16.0, ge=1)
     full_well: float = Field(8000.0, gt=0)
     read_noise: float = Field(6.0, ge=0)
+    noise: bool = True
     response: Literal["srgb", "linear"] = "srgb"
+    tilt_deg: float = Field(0.0, ge=0, le=20)
 
     @model_validator(mode="after")
     def _ordered_range(self) -> CameraSpec:
@@ -205,15 +213,15 @@ class Camera:
     ) -> NDArray[np.uint8]:
         """One 8-bit read-out of an image of scene radiance (any (h, w), after the optics).
 
-        ``noise_seed`` None reads out without noise; else the noise comes from
-        ``default_rng([noise_seed, stream])``. ``light_mask`` (h, w): where the sensor sees the
-        scene (False: black, e.g. outside a raw image's annulus).
+        ``noise_seed`` None (or the spec's ``noise: false``) reads out without noise; else
+        the noise comes from ``default_rng([noise_seed, stream])``. ``light_mask`` (h, w):
+        where the sensor sees the scene (False: black, e.g. outside a raw image's annulus).
         """
         spec = self.spec
         well = np.float32(spec.full_well)
         electrons = radiance * np.float32(spec.full_well * exposure.time / SATURATION_RADIANCE)
         electrons = np.maximum(electrons, np.float32(0.0))
-        if noise_seed is not None:
+        if noise_seed is not None and spec.noise:
             rng = np.random.default_rng([noise_seed, stream])
             sigma = np.sqrt(electrons + np.float32(spec.read_noise**2))
             electrons = electrons + rng.standard_normal(electrons.shape, dtype=np.float32) * sigma

@@ -10,7 +10,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
@@ -164,6 +164,12 @@ class WorldSpec(_Frozen):
             raise ValueError("camera_height must be between floor and ceiling")
         return self
 
+    @model_validator(mode="after")
+    def _tilt_photographs_only(self) -> WorldSpec:
+        if self.render == "landmarks" and self.camera.tilt_deg > 0:
+            raise ValueError("camera.tilt_deg applies to photographs; landmark images are upright")
+        return self
+
     @property
     def room_extent(self) -> RoomSpec:
         """The room in metres: ``room`` or the style's."""
@@ -181,11 +187,36 @@ class WorldSpec(_Frozen):
     def pose(self, i: int, j: int) -> Pose:
         return self.to_grid().pose(i, j, math.radians(self.heading_deg))
 
+    def canonical_data(self) -> dict[str, Any]:
+        """The spec as JSON data: every field, but those of :data:`KEYED_WHEN_SET` only when
+        they differ from their defaults, so that specs older than them keep their keys and a
+        generated set's manifest stays readable by the homebench that wrote its kind before."""
+        data = self.model_dump(mode="json")
+        _drop_defaults(data, KEYED_WHEN_SET)
+        return data
+
     def canonical_json(self) -> str:
-        data = self.model_dump(mode="json", exclude={"render"} if self.render == "photo" else None)
-        return json.dumps(data, sort_keys=True, separators=(",", ":"))
+        """:meth:`canonical_data` as sorted, compact JSON."""
+        return json.dumps(self.canonical_data(), sort_keys=True, separators=(",", ":"))
 
     def key(self) -> str:
         """Stable 16-hex-digit hash of the spec and the renderer version."""
         payload = f"renderer={RENDERER_VERSION};{self.canonical_json()}".encode()
         return hashlib.sha256(payload).hexdigest()[:16]
+
+
+#: Fields added after worlds were shipped, with the defaults that leave them out of
+#: :meth:`WorldSpec.canonical_json` (nested: a section's fields).
+KEYED_WHEN_SET: dict[str, Any] = {
+    "render": "photo",
+    "camera": {"noise": True, "tilt_deg": 0.0},
+}
+
+
+def _drop_defaults(data: dict[str, Any], defaults: dict[str, Any]) -> None:
+    """Remove from ``data`` (in place) every field of ``defaults`` that holds its default."""
+    for name, default in defaults.items():
+        if isinstance(default, dict):
+            _drop_defaults(data[name], default)
+        elif data.get(name) == default:
+            del data[name]

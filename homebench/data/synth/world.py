@@ -7,7 +7,10 @@ atlas with trilinear mip-mapping. The unfolded image is that panorama area-avera
 the raw image is :func:`~homebench.imaging.projection.fold` of it. Both pass through one
 capture of the world's camera (:mod:`homebench.data.synth.camera`): optics on the cast
 panorama, one exposure per pose, then a sensor read-out per image kind whose noise is seeded
-by (noise seed, image kind) and never by the variant. With a fixed exposure, pixels that an
+by (noise seed, image kind) and never by the variant. A camera spec with ``tilt_deg`` > 0
+tilts each capture's view axis (:mod:`homebench.data.synth.tilt`) by a tilt drawn from the
+same seed (its own stream): a grid position's tilt is therefore the same in every variant (the
+floor is), and zero tilt renders exactly as before. With a fixed exposure, pixels that an
 added object does not touch (nor, under an open sky with sun, shade) are therefore
 bit-identical between variants; with auto-exposure
 (the default) an added object changes the metered light, hence every pixel slightly, as in a
@@ -35,8 +38,9 @@ from homebench.data.synth.raycast import Hits, cast
 from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.data.synth.styles import style
+from homebench.data.synth.tilt import Tilt, level_geometry, tilted
 from homebench.errors import HomebenchError
-from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose, grid_key
 from homebench.imaging.projection import fold, fold_labels, frontmost, tangential_prefilter
 
 #: Rows and columns of the cast panorama per unfolded pixel.
@@ -48,6 +52,7 @@ MIN_CLEARANCE = 0.02
 #: Grey levels of the ground-truth landmark images (``render: landmarks``): objects, room.
 LANDMARK_GREYS = (0, 255)
 _KIND_STREAM = {"raw": 0, "unfolded": 1}
+_TILT_STREAM = 2
 _CACHE_SIZE = 6
 _worlds: OrderedDict[str, World] = OrderedDict()
 
@@ -102,6 +107,11 @@ class World:
         self.panorama_geometry, self._rows = supersampled_geometry(
             self.unfolded_geometry, self.raw_geometry, SUPERSAMPLE
         )
+        self._upright_geometry = (
+            level_geometry(self.panorama_geometry, spec.camera.tilt_deg)
+            if spec.camera.tilt_deg > 0
+            else self.panorama_geometry
+        )
         surfaces = scene.surfaces()
         self.regions, shape = layout(
             [s.albedo.shape for s in surfaces],
@@ -133,15 +143,18 @@ class World:
                     f"{obj.name!r} (world seed {self.spec.seed}, variant {self.spec.variant})"
                 )
 
-    def panorama(self, pose: Pose) -> tuple[NDArray[np.float32], Hits]:
-        """Noise-free radiance (grey levels, unclipped) of the cast panorama and its ray hits.
+    def panorama(
+        self, pose: Pose, geometry: PanoramaGeometry | None = None
+    ) -> tuple[NDArray[np.float32], Hits]:
+        """Noise-free radiance (grey levels, unclipped) of the upright cast panorama and its
+        ray hits.
 
-        Shapes (height, width) of :attr:`panorama_geometry`. Each pixel's mip level is log2 of
-        the texels its footprint covers: distance x pixel angle x the density of the texture
-        hit, over the cosine of incidence (floored at 0.15).
+        Shapes (height, width) of ``geometry`` (default :attr:`panorama_geometry`). Each
+        pixel's mip level is log2 of the texels its footprint covers: distance x pixel angle x
+        the density of the texture hit, over the cosine of incidence (floored at 0.15).
         """
-        hits = self._cast(pose)
-        g = self.panorama_geometry
+        g = geometry or self.panorama_geometry
+        hits = self._cast(pose) if geometry is None else self._cast(pose, geometry)
         pixel_angle = max(g.row_step, g.column_step)
         # texels per pixel: distance x pixel angle x the hit texture's own density, written so
         # that a texture of exactly TEXELS_PER_METRE gives the same floats as a fixed density
@@ -151,10 +164,11 @@ class World:
         level = np.clip(np.log2(np.maximum(footprint, 1.0)), 0, LEVELS - 1)
         return self.atlas.sample(hits.x, hits.y, level), hits
 
-    def _cast(self, pose: Pose) -> Hits:
+    def _cast(self, pose: Pose, geometry: PanoramaGeometry | None = None) -> Hits:
         self.check_pose(pose)
         origin = (pose.x, pose.y, self.spec.camera_height)
-        return cast(self.scene, self.regions, self.panorama_geometry, origin, pose.heading)
+        g = geometry or self.panorama_geometry
+        return cast(self.scene, self.regions, g, origin, pose.heading)
 
     def downsample(self, panorama: NDArray) -> NDArray:
         """The unfolded image of a cast panorama (height, width of :attr:`panorama_geometry`):
@@ -163,10 +177,26 @@ class World:
         g = self.unfolded_geometry
         return cv2.resize(crop, (g.width, g.height), interpolation=cv2.INTER_AREA)
 
-    def capture(self, pose: Pose) -> tuple[NDArray[np.float32], Exposure]:
-        """The radiance reaching the sensor at ``pose`` (after the optics; shape of
-        :attr:`panorama_geometry`) and the exposure the camera chooses for it."""
-        seen = self.camera.optics(self.panorama(pose)[0])
+    def tilt(self, seed: int | None) -> Tilt | None:
+        """The mount's tilt of the capture seeded by ``seed`` (None: upright, as is every
+        capture of a camera without ``tilt_deg``)."""
+        if seed is None or self.spec.camera.tilt_deg <= 0:
+            return None
+        return self._draw_tilt(seed)
+
+    def _draw_tilt(self, seed: int) -> Tilt:
+        return Tilt.draw(self.spec.camera.tilt_deg, np.random.default_rng([seed, _TILT_STREAM]))
+
+    def capture(self, pose: Pose, tilt: Tilt | None = None) -> tuple[NDArray[np.float32], Exposure]:
+        """The radiance reaching the sensor at ``pose`` with the camera axis tilted by
+        ``tilt`` (None: upright), after the optics (shape of :attr:`panorama_geometry`), and
+        the exposure the camera chooses for it."""
+        if tilt is None:
+            radiance = self.panorama(pose)[0]
+        else:
+            upright = self.panorama(pose, self._upright_geometry)[0]
+            radiance = tilted(upright, self._upright_geometry, self.panorama_geometry, tilt)
+        seen = self.camera.optics(radiance)
         return seen, self.camera.meter(seen)
 
     def _fold(self, panorama: NDArray[np.float32]) -> NDArray[np.float32]:
@@ -177,11 +207,12 @@ class World:
 
     def render(self, pose: Pose, noise_seed: int | None) -> dict[str, NDArray[np.uint8]]:
         """Grey images of ``pose``: "raw" (raw.height, raw.width) and "unfolded"
-        (unfolded.height, unfolded.width). ``noise_seed=None`` renders without sensor noise.
+        (unfolded.height, unfolded.width). ``noise_seed`` seeds the capture's randomness:
+        the sensor noise and the mount's tilt (:meth:`tilt`); None renders without either.
         The spec's ``render: landmarks`` gives :meth:`render_landmarks` instead."""
         if self.spec.render == "landmarks":
             return self.render_landmarks(pose)
-        seen, exposure = self.capture(pose)
+        seen, exposure = self.capture(pose, self.tilt(noise_seed))
         camera = self.camera
         return {
             "raw": camera.read_out(
@@ -228,9 +259,11 @@ class World:
     # ------------------------------------------------------------------ description
 
     def ground_truth(self) -> dict[str, Any]:
-        """Room, camera height and every object with its 3-D corner points (JSON-ready)."""
+        """Room, camera height and every object with its 3-D corner points (JSON-ready); with
+        a tilted camera also each grid position's tilt (``camera_tilts``, by "i_j": angle and
+        direction in degrees)."""
         room = self.scene.room
-        return {
+        truth: dict[str, Any] = {
             "seed": self.spec.seed,
             "style": self.spec.style,
             "variant": self.spec.variant,
@@ -247,6 +280,12 @@ class World:
                 for k, obj in enumerate(self.scene.objects)
             ],
         }
+        if self.spec.camera.tilt_deg > 0:
+            truth["camera_tilts"] = {
+                grid_key(i, j): self._draw_tilt(position_noise_seed(self.spec.seed, i, j)).degrees()
+                for i, j in self.spec.to_grid().indices()
+            }
+        return truth
 
 
 @lru_cache(maxsize=8)
