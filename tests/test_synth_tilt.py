@@ -8,10 +8,9 @@ import json
 import cv2
 import numpy as np
 import pytest
+from marker_box import face_centres, with_marker
 
-from homebench.data.synth import textures as tx
 from homebench.data.synth.camera import CameraSpec
-from homebench.data.synth.scene import Box, texture_shape
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.tilt import Tilt, level_geometry, tilted
 from homebench.data.synth.world import World, build_world, position_noise_seed, render_position
@@ -20,7 +19,6 @@ from homebench.geometry import Pose
 TILTED = WorldSpec(seed=2, camera=CameraSpec(tilt_deg=6.0))
 SMALL = {"seed": 5, "grid": {"shape": (3, 4)}, "unfolded": {"width": 180}}
 # a checkered box: each face shows an X corner at its centre (x, y, z in metres)
-CENTRE, ANGLE, SIZE, HEIGHTS = (3.0, 4.2), 0.3, 0.4, (0.55, 1.25)
 
 
 def test_the_tilt_leans_the_axis_towards_its_direction():
@@ -88,32 +86,18 @@ def test_landmark_images_refuse_a_tilt():
 
 @pytest.fixture(scope="module")
 def marker_world() -> World:
-    """The tilted world plus a checkered box."""
-    base = build_world(TILTED.model_copy(update={"camera": CameraSpec()})).scene
-    side = tx.checker(texture_shape(4 * SIZE, HEIGHTS[1] - HEIGHTS[0]), (2, 8))
-    marker = Box(
-        "marker",
-        *HEIGHTS,
-        side,
-        tx.blank((8, 8), 0.5),
-        centre=CENTRE,
-        size=(SIZE, SIZE),
-        angle=ANGLE,
-    )
-    return World(TILTED, base.with_objects([marker]), len(base.objects))
+    """The tilted world plus the checkered box (tests/marker_box.py)."""
+    return with_marker(TILTED, TILTED.model_copy(update={"camera": CameraSpec()}))
 
 
 def _visible_face_centres(pose: Pose) -> list[np.ndarray]:
     """3-D centres of the marker's faces seen from ``pose`` within 60 deg of their normal."""
-    c, s = np.cos(ANGLE), np.sin(ANGLE)
-    found = []
-    for nx, ny in ((0, -1), (1, 0), (0, 1), (-1, 0)):
-        normal = np.array([nx * c - ny * s, nx * s + ny * c])
-        centre = np.array(CENTRE) + SIZE / 2 * normal
-        to_camera = pose.xy - centre
+    seen = []
+    for centre, normal in face_centres():
+        to_camera = pose.xy - centre[:2]
         if normal @ to_camera >= 0.5 * np.linalg.norm(to_camera):
-            found.append(np.array([*centre, sum(HEIGHTS) / 2]))
-    return found
+            seen.append(centre)
+    return seen
 
 
 def _saddle(image: np.ndarray, x: float, y: float, win: int) -> np.ndarray:

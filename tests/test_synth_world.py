@@ -11,9 +11,10 @@ import sys
 import cv2
 import numpy as np
 import pytest
+from marker_box import face_centres, with_marker
 
 from homebench.data.synth import textures as tx
-from homebench.data.synth.scene import Box, texture_shape
+from homebench.data.synth.scene import Box
 from homebench.data.synth.spec import RawImageSpec, UnfoldedImageSpec, WorldSpec
 from homebench.data.synth.world import (
     PoseError,
@@ -37,35 +38,11 @@ SMALL = WorldSpec(
 
 # ---------------------------------------------------------------- geometry against ground truth
 
-MARKER_CENTRE, MARKER_ANGLE, MARKER_SIZE, MARKER_Z = (3.0, 4.2), 0.3, 0.4, (0.55, 1.25)
-
 
 @pytest.fixture(scope="module")
 def marker_world() -> World:
-    """The world of SPEC plus a checkered box: each face shows an X corner at its centre."""
-    base = build_world(SPEC).scene
-    side = tx.checker(texture_shape(4 * MARKER_SIZE, MARKER_Z[1] - MARKER_Z[0]), (2, 8))
-    marker = Box(
-        "marker",
-        *MARKER_Z,
-        side,
-        tx.blank((8, 8), 0.5),
-        centre=MARKER_CENTRE,
-        size=(MARKER_SIZE, MARKER_SIZE),
-        angle=MARKER_ANGLE,
-    )
-    return World(SPEC, base.with_objects([marker]), len(base.objects))
-
-
-def _face_centres() -> list[tuple[np.ndarray, np.ndarray]]:
-    """(3-D face centre, outward horizontal normal) of the marker's four faces."""
-    ca, sa = np.cos(MARKER_ANGLE), np.sin(MARKER_ANGLE)
-    out = []
-    for nx, ny in ((0, -1), (1, 0), (0, 1), (-1, 0)):
-        n = np.array([nx * ca - ny * sa, nx * sa + ny * ca])
-        c = np.array(MARKER_CENTRE) + MARKER_SIZE / 2 * n
-        out.append((np.array([c[0], c[1], sum(MARKER_Z) / 2]), n))
-    return out
+    """The world of SPEC plus the checkered box (tests/marker_box.py)."""
+    return with_marker(SPEC)
 
 
 def _refine(image: np.ndarray, x: float, y: float, win: int) -> np.ndarray:
@@ -91,7 +68,7 @@ def test_marker_corners_land_at_their_bearings(marker_world, pose):
     images = marker_world.render(pose, None)
     ug, rg = marker_world.unfolded_geometry, marker_world.raw_geometry
     measured = 0
-    for point, normal in _face_centres():
+    for point, normal in face_centres():
         to_camera = pose.xy - point[:2]
         if normal @ to_camera < 0.5 * np.linalg.norm(to_camera):
             continue  # face seen too obliquely or from behind
