@@ -373,6 +373,10 @@ class Room:
         x, y, nx, ny = self.wall_xy(u)
         return _stack(x, y, self.height - v), _stack(nx, ny, 0.0)
 
+    def floor(self, albedo: Texture) -> Surface:
+        """The floor (z = 0, facing up) covered by ``albedo`` (rows, cols) in [0, 1]."""
+        return Surface(albedo, (self.width, self.depth), self.place_plane(0.0, 1.0))
+
     def place_plane(self, z: float, nz: float) -> Placement:
         """Floor (z = 0, nz = 1) or ceiling placement: u = x, v = depth - y."""
 

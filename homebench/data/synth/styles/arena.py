@@ -152,11 +152,7 @@ def build(seed: int, room: Room, grid: Grid) -> Scene:
     """The seeded arena without any variant additions."""
     rng = np.random.default_rng([seed, 0])
     wall, windows = _walls(rng, room)
-    floor = Surface(
-        tx.linoleum(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE),
-        (room.width, room.depth),
-        room.place_plane(0.0, 1.0),
-    )
+    floor = room.floor(tx.linoleum(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE))
     ceiling_surface, bars = ceiling(rng, room, LAMPS)
     objects = _cylinders(rng, room, grid)
     return Scene(room, wall, floor, ceiling_surface, objects, windows, bars)

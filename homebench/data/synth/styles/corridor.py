@@ -42,7 +42,7 @@ from homebench.data.synth.layout import (
     waste_bin,
 )
 from homebench.data.synth.lighting import Lighting, indoor_lightings
-from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene, Surface, Window, texture_shape
+from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene, Window, texture_shape
 from homebench.data.synth.spec import Variant
 from homebench.data.synth.walls import (
     DOOR_HEIGHT,
@@ -198,16 +198,14 @@ def build(seed: int, room: Room, grid: Grid) -> Scene:
     tile = int(TEXELS_PER_METRE * float(rng.choice([0.3, 0.4, 0.5, 0.6])))
     shade = float(rng.uniform(0.2, 0.45))
     alternate = 0.12 if rng.random() < 0.3 else 0.0
-    floor_surface = Surface(
+    floor_surface = room.floor(
         tx.tiles(
             rng,
             texture_shape(room.width, room.depth),
             tile,
             (shade - 0.03, shade + 0.03),
             alternate,
-        ),
-        (room.width, room.depth),
-        room.place_plane(0.0, 1.0),
+        )
     )
     across = min(room.width, room.depth)
     pitch = float(rng.uniform(2.2, 3.0))

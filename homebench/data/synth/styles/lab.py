@@ -47,7 +47,7 @@ from homebench.data.synth.layout import (
     waste_bin,
 )
 from homebench.data.synth.lighting import Lighting, indoor_lightings
-from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene, Surface, Window, texture_shape
+from homebench.data.synth.scene import TEXELS_PER_METRE, Room, Scene, Window, texture_shape
 from homebench.data.synth.spec import Variant
 from homebench.data.synth.walls import (
     DOOR_HEIGHT,
@@ -169,10 +169,8 @@ def build(seed: int, room: Room, grid: Grid) -> Scene:
     _doors(rng, canvas, walls, floor, inner)
     _boards(rng, room, canvas, walls, floor, inner)
     objects = fire_extinguisher(rng, walls, floor, canvas, 0, inner)
-    floor_surface = Surface(
-        tx.linoleum(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE),
-        (room.width, room.depth),
-        room.place_plane(0.0, 1.0),
+    floor_surface = room.floor(
+        tx.linoleum(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE)
     )
     size = (0.3, 1.25) if window_wall % 2 == 1 else (1.25, 0.3)  # along the windows
     pitch = (float(rng.uniform(1.9, 2.4)), float(rng.uniform(2.1, 2.6)))

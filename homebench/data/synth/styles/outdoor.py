@@ -381,11 +381,7 @@ def _building(rng: np.random.Generator, yard: Yard, k: int) -> list[Prism]:
 def _ground(ground: Ground, room: Room, box: tuple[float, ...]) -> tuple[Surface, list[Patch]]:
     """The coarse floor of the whole box and the patches of :data:`GROUND`, coarse to fine."""
     floor_density = GROUND[-1][1] / 8
-    floor = Surface(
-        _ground_albedo(ground, (0.0, room.width), (0.0, room.depth), floor_density),
-        (room.width, room.depth),
-        room.place_plane(0.0, 1.0),
-    )
+    floor = room.floor(_ground_albedo(ground, (0.0, room.width), (0.0, room.depth), floor_density))
     patches = []
     x0, y0, x1, y1 = box
     for margin, density in reversed(GROUND):

@@ -108,11 +108,7 @@ def build(seed: int, room: Room, grid: Grid) -> Scene:
     """The seeded poster room without any variant additions."""
     rng = np.random.default_rng([seed, 0])
     wall, windows = _paint_walls(rng, room)
-    floor = Surface(
-        tx.floor(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE),
-        (room.width, room.depth),
-        room.place_plane(0.0, 1.0),
-    )
+    floor = room.floor(tx.floor(rng, texture_shape(room.width, room.depth), TEXELS_PER_METRE))
     ceiling_surface, bars = ceiling(rng, room)
     planner = floor_planner(rng, room, grid)
     makers = [(cabinet, (3, 7)), (table, (1, 3)), (box_stack, (3, 7)), (waste_bin, (1, 4))]
