@@ -12,6 +12,7 @@ constructed from it.
 
 from __future__ import annotations
 
+import contextlib
 import re
 from pathlib import Path
 from typing import TypeVar
@@ -48,13 +49,13 @@ def as_yaml(text: str) -> str:
     if header is not None:
         text = " " * header.end() + text[header.end() :]
     chars = list(text)
-    try:
+    # text that does not scan is left as it is from there on: the parser reports the same
+    # error, at its line
+    with contextlib.suppress(yaml.YAMLError):
         for token in yaml.scan(text, Loader=_Scanner):
             if isinstance(token, yaml.TagToken) and _is_matrix_tag(token, text):
                 start, end = token.start_mark.index, token.end_mark.index
                 chars[start:end] = " " * (end - start)
-    except yaml.YAMLError:
-        pass  # the parser reports the same error, at its line
     return "".join(chars)
 
 
