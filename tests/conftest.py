@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import resource
+import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -106,3 +108,19 @@ def run_config(folder: Path, config: dict, *options: str, report: bool = False) 
     path.write_text(yaml.safe_dump(config))
     flags = ["--no-progress", *([] if report else ["--no-report"]), *options]
     return CliRunner().invoke(main, ["run", str(path), *flags])
+
+
+def homebench_limited(*args: str) -> subprocess.CompletedProcess[str]:
+    """`homebench args` in a real process with 2 GiB of address space and 60 s at most."""
+
+    def limit_memory() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+
+    return subprocess.run(
+        [sys.executable, "-m", "homebench", *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        preexec_fn=limit_memory,
+        check=False,
+    )

@@ -3,15 +3,13 @@ hold before any work, and refused with one line naming the key, exit 2, in bound
 
 from __future__ import annotations
 
-import resource
-import subprocess
-import sys
 import time
 from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
 from click.testing import CliRunner
+from conftest import homebench_limited
 from pydantic import ValidationError
 
 from homebench.bounds import MAX_JOBS, MAX_PAIRS
@@ -28,22 +26,6 @@ from homebench.image_header import MAX_IMAGE_PIXELS
 CONFIGS = Path(__file__).resolve().parent.parent / "configs"
 #: Values of a parameter swept 200 times: three such lists make 8,000,000 grid points.
 SWEEP = "[" + ", ".join(str(4 + k) for k in range(200)) + "]"
-
-
-def _in_subprocess(*args: str) -> subprocess.CompletedProcess[str]:
-    """`homebench args` in a real process with 2 GiB of address space and 60 s at most."""
-
-    def limit_memory() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
-
-    return subprocess.run(
-        [sys.executable, "-m", "homebench", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        preexec_fn=limit_memory,
-        check=False,
-    )
 
 
 @pytest.mark.parametrize(
@@ -78,7 +60,7 @@ def test_a_size_or_count_beyond_what_a_run_holds_is_refused_at_once(
 ) -> None:
     """Each of these grew the main process to gigabytes (or ran a minute to a MemoryError)."""
     start = time.monotonic()
-    done = _in_subprocess(
+    done = homebench_limited(
         "run", str(CONFIGS / config), override, f"output={tmp_path / 'run'}", "--no-progress"
     )
     assert time.monotonic() - start < 30

@@ -4,14 +4,12 @@ naming the file (and line), exit 2, in bounded time (issue 12)."""
 from __future__ import annotations
 
 import os
-import resource
-import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from conftest import homebench_limited
 
 from homebench import yamlio
 from homebench.cli import main
@@ -42,28 +40,12 @@ def _alias_bomb(levels: int, fan_out: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _in_subprocess(*args: str) -> subprocess.CompletedProcess[str]:
-    """`homebench args` in a real process with 2 GiB of address space and 60 s at most."""
-
-    def limit_memory() -> None:
-        resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
-
-    return subprocess.run(
-        [sys.executable, "-m", "homebench", *args],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        preexec_fn=limit_memory,
-        check=False,
-    )
-
-
 def test_dev_zero_and_a_fifo_are_refused_before_reading(tmp_path: Path) -> None:
     fifo = tmp_path / "config.yaml"
     os.mkfifo(fifo)  # nobody ever writes to it: reading would wait for ever
     for path in ("/dev/zero", str(fifo)):
         start = time.monotonic()
-        done = _in_subprocess("run", path)
+        done = homebench_limited("run", path)
         assert done.returncode == 2, done.stderr
         _assert_one_line(done.stderr, path, "not a regular file")
         assert time.monotonic() - start < 30
