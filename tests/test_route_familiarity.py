@@ -249,6 +249,10 @@ def test_a_route_run_follows_and_probes_with_both_families(tmp_path: Path) -> No
     # one RIDF figure per memory method (the station halfway along), none for warping
     ridfs = sorted(path.name for path in (report / "figures").glob("ridf_*.png"))
     assert [name.split("_")[1] for name in ridfs] == ["infomax", "perfect-memory"]
+    # seed 000's findings are klt-sector's: a run without it says so (it crashed)
+    result = CliRunner().invoke(main, ["findings", str(tmp_path / "run")])
+    assert result.exit_code == 2, result.output
+    assert "klt-sector" in result.output and "perfect-memory" in result.output
 
 
 CLOSED_LOOP = {

@@ -83,18 +83,28 @@ def _refuse_repeated_pairs(pairs: pd.DataFrame) -> None:
 
 
 def _route_table(run_dirs: Sequence[Path]) -> pd.DataFrame:
-    frames = []
+    """The klt-sector trials of route runs (seed 000's findings are klt-sector's: other
+    methods of a run are left out); DataError when no run holds one."""
+    frames, others = [], set()
     for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
         run = load_route_run(read_run_info(run_dir))
         world = run.config.world
         frame = pd.DataFrame([trial.summary for trial in run.trials])
-        # Seed 000's findings are klt-sector's: other methods of the run are left out.
-        klt = [entry for entry, name, _ in run.config.method_points() if name == KLT_SECTOR]
+        points = run.config.method_points()
+        klt = [entry for entry, name, _ in points if name == KLT_SECTOR]
+        others.update(entry for entry, name, _ in points if name != KLT_SECTOR)
         frame = frame[frame["method"].isin(klt)] if "method" in frame else frame
         frame.insert(0, "world", k)  # a route run drives in one world
         frame.insert(0, "place", world.style if run.config.database is None else label)
         frames.append(frame)
-    return pd.concat(frames, ignore_index=True)
+    table = pd.concat(frames, ignore_index=True)
+    if table.empty:
+        raise DataError(
+            f"findings: seed 000's route findings are about {KLT_SECTOR}, and no finished "
+            f"trial of the runs used it (methods: {', '.join(sorted(others))}); compare the "
+            "methods of a route run in its report's paired tables"
+        )
+    return table
 
 
 def findings_of_runs(
