@@ -98,6 +98,8 @@ def test_every_command_on_a_hand_written_database(databases: Path, tmp_path: Pat
                  "--no-progress", "--no-report", cwd=tmp_path))  # fmt: skip
     board = ok(homebench("leaderboard", run, coarse, cwd=tmp_path))
     assert "original-day" in board and " @ " not in board  # the same databases: one column each
+    board = ok(homebench("leaderboard", run, coarse, "--metric", "ahc_missing90", cwd=tmp_path))
+    assert "AHC (no estimate = 90 deg)" in board
     compared = ok(homebench("compare", run, coarse, cwd=tmp_path))
     assert "config methods[2].params.n_rho: 20 -> 10" in compared
     assert "| paired" in compared and "unpaired" not in compared
