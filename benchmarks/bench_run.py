@@ -3,6 +3,7 @@
     python benchmarks/bench_run.py                        # 4 goals of synth-original
     python benchmarks/bench_run.py --goals 10 --methods warping sift
     python benchmarks/bench_run.py --goals all --methods warping   # all 28,730 pairs
+    python benchmarks/bench_run.py --goals 40 --repeats 3          # alternated, medians
 
 For each method: the floor, the method alone (``describe`` of every image the run needs once,
 then ``home`` of every pair with what it needs beyond the two views; images decoded and one
@@ -19,7 +20,9 @@ that do not grow with its pairs (the worker server's imports, planning, the run'
 opening the databases in each worker): "fixed CPU" (s) is the CPU of a one-goal run of the
 method beyond its own batch floor (the median of three), and "marginal" the run's CPU without it
 over the batch floor's, at --jobs 1 / --jobs 2. The load average before and after each line says
-how busy the machine was.
+how busy the machine was. With ``--repeats N`` the floors and the runs alternate N times
+(floor, batch floor, --jobs 1, --jobs 2, then again) and each figure is the median of its N
+measurements; the ratios' lowest and highest over the repeats follow in brackets.
 """
 
 from __future__ import annotations
@@ -148,10 +151,36 @@ def _measure(
     return (floor, batch_floor), pairs, runs
 
 
+def _medians(measured: list[tuple]) -> tuple:
+    """The median of each figure of :func:`_measure`'s results over repeats (pairs: the same)."""
+    floors = tuple(statistics.median(m[0][k] for m in measured) for k in (0, 1))
+    runs = {
+        n: tuple(statistics.median(m[2][n][k] for m in measured) for k in (0, 1)) for n in (1, 2)
+    }
+    return floors, measured[0][1], runs
+
+
+def _spread(measured: list[tuple]) -> str:
+    """The lowest and highest j1 / j2 ratio over the batch floor and speed-up over repeats."""
+    if len(measured) < 2:
+        return ""
+    ratios = {n: [m[2][n][1] / m[0][1] for m in measured] for n in (1, 2)}
+    speed = [m[2][1][0] / m[2][2][0] for m in measured]
+    return (
+        "  ["
+        + "; ".join(
+            f"{label} {min(v):.2f}-{max(v):.2f}"
+            for label, v in (("j1", ratios[1]), ("j2", ratios[2]), ("speed-up", speed))
+        )
+        + "]"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--goals", default="4", help="goals (all currents each), or 'all'")
     parser.add_argument("--methods", nargs="+", default=list(METHODS))
+    parser.add_argument("--repeats", type=int, default=1, help="alternated measurements")
     args = parser.parse_args()
     ensure_generated(DATABASE, jobs=2)
     print("per pair: process CPU ms (this process and its workers for the runs); whole runs: s;")
@@ -164,8 +193,11 @@ def main() -> None:
     for name in args.methods:
         load = os.getloadavg()[0]
         with tempfile.TemporaryDirectory() as folder:
-            floors, pairs, runs = _measure(Path(folder) / "all", name, args.goals)
+            measured = [
+                _measure(Path(folder) / f"all{k}", name, args.goals) for k in range(args.repeats)
+            ]
             ones = [_measure(Path(folder) / f"one{k}", name, 1) for k in range(FIXED_REPEATS)]
+        floors, pairs, runs = _medians(measured)
         floor_ms, batch_ms = (1000.0 * floor / pairs for floor in floors)
         per_pair = {n: 1000.0 * cpu / pairs for n, (_, cpu) in runs.items()}
         ratios = {n: f"{per_pair[n] / floor_ms:.2f}/{per_pair[n] / batch_ms:.2f}" for n in runs}
@@ -178,7 +210,7 @@ def main() -> None:
             f"{ratios[1]:>9} {per_pair[2]:>7.2f} {ratios[2]:>9} "
             f"{runs[1][0]:>7.2f} {runs[2][0]:>7.2f} {runs[1][0] / runs[2][0]:>8.2f} "
             f"{fixed[1]:>4.2f}/{fixed[2]:>4.2f} {marginal[1]:>4.2f}/{marginal[2]:>4.2f}  "
-            f"{load:.2f}/{os.getloadavg()[0]:.2f}",
+            f"{load:.2f}/{os.getloadavg()[0]:.2f}{_spread(measured)}",
             flush=True,
         )
 
