@@ -194,11 +194,15 @@ def database_view(
     if kind in database.kinds:
         return database.view(i, j, kind)
     if kind == "unfolded" and unfold_geometry is not None:
-        raw = database.view(i, j, "raw")
-        return View(unfold(raw.image, raw.geometry, unfold_geometry), unfold_geometry)
+        return unfolded_view(database.view(i, j, "raw"), unfold_geometry)
     raise DataError(
         f"database {database.name!r} has no {kind!r} images (it has: {', '.join(database.kinds)})"
     )
+
+
+def unfolded_view(raw: View, geometry: PanoramaGeometry) -> View:
+    """The raw (catadioptric) ``raw`` view unfolded to a panorama of ``geometry``."""
+    return View(unfold(raw.image, raw.geometry, geometry), geometry)
 
 
 def load_view(source: Source, i: int, j: int, kind: ImageKind, rotation: float = 0.0) -> View:

@@ -1,13 +1,19 @@
-"""Where a robot drives (route and closed-loop experiments): a generated world or a grid database.
+"""Where a robot drives (route and closed-loop experiments): a generated world, a grid database,
+or a database of posed images.
 
 In a generated world the robot sees the panorama rendered at its true pose. On a grid database
 it sees the image of the grid position nearest to it, turned to its heading by whole columns
 (seed 000's experiment "on the nearest grid images"); it may not leave the grid by more than
-one spacing.
+one spacing. On a database of posed images that is no grid (a recorded route in the Brains on
+Board format) it sees the recorded image nearest to it, turned the same way: a route driven
+along the recording replays its images. It may not go farther from every recorded pose than
+the recording's sparsest spacing (the largest distance from a recorded pose to its nearest
+neighbour), the rule of the grid's one spacing.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -18,10 +24,12 @@ from numpy.typing import NDArray
 
 from homebench.config import UnfoldConfig
 from homebench.data import catalog
+from homebench.data.bob import open_bob
 from homebench.data.database import GridDatabase
+from homebench.data.posed import PosedDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
-from homebench.evaluation.sources import database_view
+from homebench.evaluation.sources import database_view, unfolded_view
 from homebench.geometry import Grid, PanoramaGeometry, Pose, wrap_angle
 from homebench.hashing import derived_seed
 from homebench.imaging.rotation import rotate_view
@@ -37,7 +45,9 @@ class Scene:
 
     ``render(pose, noise_seed)`` gives the panorama at ``pose``; ``check_pose`` raises PoseError
     for a pose the scene cannot show; ``grid_origin`` is the capture grid's origin (metres),
-    which routes given in the grid frame start from; ``grid`` the capture grid itself.
+    which routes given in the grid frame start from; ``grid`` the capture grid itself;
+    ``recorded`` the poses of a database of posed images, in recording order (``waypoints:
+    recorded`` routes follow them).
     """
 
     geometry: PanoramaGeometry
@@ -45,6 +55,7 @@ class Scene:
     check_pose: Callable[[Pose], None]
     grid_origin: tuple[float, float]
     grid: Grid | None = None
+    recorded: PosedDatabase | None = None
 
     def camera(self, seed: int, phase: str) -> Camera:
         """Frame k at ``pose``, its sensor noise seeded by (seed, phase, k)."""
@@ -99,6 +110,56 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> Scene:
     return Scene(geometry, render, check_pose, grid.origin, grid)
 
 
+def posed_scene(posed: PosedDatabase, unfold_config: UnfoldConfig) -> Scene:
+    """The recorded image nearest to the pose, turned to it (see the module docstring); raw
+    images are unfolded with ``unfold_config``."""
+    unfold_geometry = None if posed.kind == "unfolded" else unfold_config.geometry()
+    geometry = posed_view(posed, 0, unfold_geometry).geometry
+    assert isinstance(geometry, PanoramaGeometry)
+    reach = sparsest_spacing(posed.xy)
+
+    def nearest(pose: Pose) -> int:
+        distances = np.hypot(*(posed.xy - pose.xy).T)  # (n,), metres
+        k = int(np.argmin(distances))
+        if not distances[k] <= reach + 1e-9:
+            raise PoseError(
+                f"pose ({pose.x:.2f}, {pose.y:.2f}) m is {distances[k]:.2f} m from the nearest "
+                f"recorded image of database {posed.name!r}, farther than its sparsest spacing "
+                f"({reach:.2f} m)"
+            )
+        return k
+
+    def render(pose: Pose, noise_seed: int) -> NDArray[np.uint8]:
+        k = nearest(pose)
+        view = posed_view(posed, k, unfold_geometry)
+        return turned(view, pose.heading - math.radians(float(posed.heading_deg[k])))
+
+    def check_pose(pose: Pose) -> None:
+        nearest(pose)
+
+    origin = (float(posed.xy[0, 0]), float(posed.xy[0, 1]))
+    return Scene(geometry, render, check_pose, origin, recorded=posed)
+
+
+def sparsest_spacing(xy: NDArray[np.float64]) -> float:
+    """The largest distance (metres) from a pose of ``xy`` (n, 2) to its nearest other pose;
+    0 for fewer than two poses. Rows at a time, so memory stays O(n)."""
+    if len(xy) < 2:
+        return 0.0
+    largest = 0.0
+    for start in range(0, len(xy), 256):
+        block = np.hypot(*(xy[start : start + 256, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+        block[np.arange(len(block)), np.arange(start, start + len(block))] = np.inf
+        largest = max(largest, float(block.min(axis=1).max()))
+    return largest
+
+
+def posed_view(posed: PosedDatabase, k: int, unfold_geometry: PanoramaGeometry | None) -> View:
+    """Recorded image ``k`` as an unfolded panorama (raw ones unfolded to ``unfold_geometry``)."""
+    view = posed.view(k)
+    return view if unfold_geometry is None else unfolded_view(view, unfold_geometry)
+
+
 def turned(view: View, turn: float) -> NDArray[np.uint8]:
     """The image of unfolded ``view`` turned ccw by ``turn`` (rad) rounded to whole columns
     (the heading error this leaves is at most half a column step)."""
@@ -111,8 +172,22 @@ def turned(view: View, turn: float) -> NDArray[np.uint8]:
 def open_scene(
     world: WorldSpec, database: str | None, database_path: Path | None, unfold: UnfoldConfig
 ) -> Scene:
-    """The scene of an experiment config: its grid ``database`` if it names one (a known name
-    or manifest path, unfolded with ``unfold``), else its generated ``world``."""
-    if database is not None:
-        return grid_scene(database, database_path, unfold)
-    return world_scene(world)
+    """The scene of an experiment config: its ``database`` if it names one (a known name,
+    manifest path or Brains on Board folder; raw images unfolded with ``unfold``): a grid's
+    nearest images, or a recording's (a database of posed images that is no grid); else its
+    generated ``world``."""
+    if database is None:
+        return world_scene(world)
+    folder = catalog.bob_folder(database, database_path)
+    if folder is not None:
+        posed = _posed(folder)
+        if posed.grid is None:
+            return posed_scene(posed, unfold)
+    return grid_scene(database, database_path, unfold)
+
+
+@lru_cache(maxsize=4)
+def _posed(folder: Path) -> PosedDatabase:
+    posed = open_bob(folder)
+    posed.check_images()
+    return posed

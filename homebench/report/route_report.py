@@ -190,6 +190,13 @@ def _route_line(route: RouteSpec) -> str:
     heading = (
         "along the first segment" if route.heading_deg is None else f"{route.heading_deg:g} deg"
     )
+    if route.is_recorded:
+        lengths = ", ".join(f"{x:g}" for x in route.lengths or ())
+        over = f"the first {lengths} m" if lengths else "the whole route"
+        return (
+            f"route {route.name}: the database's recorded poses in recording order (replayed), "
+            f"heading {heading}; trials over {over}, {route.repeats} each"
+        )
     lengths = ", ".join(f"{x:g}" for x in route.trial_lengths())
     return (
         f"route {route.name}: {len(route.waypoints)} waypoints, {route.length:.2f} m, home "

@@ -105,7 +105,14 @@ def trial_scene(config: ClosedLoopConfig, style: str) -> Scene:
     key = stable_hash(scene_key(config, style))
     if key not in _scenes:
         world = config.world if config.database is not None else _world(config, style)
-        _scenes[key] = open_scene(world, config.database, config.database_path, config.unfold)
+        scene = open_scene(world, config.database, config.database_path, config.unfold)
+        if scene.grid is None:  # starts and goals are placed on a capture grid
+            raise ConfigError(
+                f"database {config.database!r} is a recording (posed images, no grid): "
+                "closed-loop runs need a grid database or a generated world; a route run "
+                "(kind: route, waypoints: recorded) replays a recording"
+            )
+        _scenes[key] = scene
     return _scenes[key]
 
 

@@ -51,12 +51,14 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
     FiniteFloat,
     SerializerFunctionWrapHandler,
+    ValidationError,
     field_validator,
     model_serializer,
     model_validator,
@@ -76,6 +78,9 @@ from homebench.yamlio import load_model
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).
 KLT_SECTOR = "klt-sector"
+#: Recorded poses closer than this (metres) to the last one a replayed route keeps are dropped
+#: (a robot standing still while it records).
+MIN_STEP_M = 1e-3
 
 
 class _Strict(BaseModel):
@@ -87,7 +92,10 @@ class RouteSpec(_Strict):
 
     ``frame``: ``world`` (the waypoints are world coordinates) or ``grid`` (metres from the
     capture grid's origin, position (0, 0): one route then fits every generated style, whose
-    grids are centred in rooms of different sizes).
+    grids are centred in rooms of different sizes; on a recording, from its first pose).
+    ``waypoints: recorded`` follows the poses of the config's database, a recorded route (a
+    Brains on Board folder that is no grid), in recording order: the route replays its images
+    (:func:`~homebench.experiments.scene.posed_scene`).
 
     ``heading_deg``: the robot's heading at home (default: along the first segment).
     ``lengths`` (metres): one trial per length, driving the route's first metres; default: one
@@ -98,7 +106,9 @@ class RouteSpec(_Strict):
     """
 
     name: str
-    waypoints: list[tuple[FiniteFloat, FiniteFloat]] = Field(min_length=2)
+    waypoints: (
+        Annotated[list[tuple[FiniteFloat, FiniteFloat]], Field(min_length=2)] | Literal["recorded"]
+    )
     frame: Literal["world", "grid"] = "world"
     heading_deg: FiniteFloat | None = None
     lengths: list[Annotated[float, Field(gt=0)]] | None = None
@@ -113,8 +123,14 @@ class RouteSpec(_Strict):
         return value
 
     @property
+    def is_recorded(self) -> bool:
+        """Whether the route follows its database's recorded poses (``waypoints: recorded``)."""
+        return self.waypoints == "recorded"
+
+    @property
     def length(self) -> float:
-        """Length of the whole route, metres."""
+        """Length of the whole route, metres (of a recorded route: once replayed)."""
+        assert not self.is_recorded, "a recorded route has a length once replayed"
         return float(np.sum(np.hypot(*np.diff(np.asarray(self.waypoints), axis=0).T)))
 
     @model_serializer(mode="wrap")
@@ -128,12 +144,31 @@ class RouteSpec(_Strict):
 
     @model_validator(mode="after")
     def _lengths_fit(self) -> RouteSpec:
+        if self.is_recorded:  # checked once replayed (replayed())
+            if self.frame != "world":
+                raise ValueError("recorded waypoints are the database's poses: frame 'world'")
+            return self
         if self.length <= 0:
             raise ValueError("the waypoints must not all coincide")
         too_long = [x for x in self.lengths or () if x > self.length + 1e-9]
         if too_long:
             raise ValueError(f"length {too_long[0]} m exceeds the route's {self.length:.3f} m")
         return self
+
+    def replayed(self, xy: NDArray[np.float64], where: str) -> RouteSpec:
+        """This recorded route along the recorded poses ``xy`` (n, 2), metres, in order; poses
+        within :data:`MIN_STEP_M` of the last one kept are dropped. ConfigError starting with
+        ``where`` when the poses do not make the route (its lengths too long)."""
+        kept = [xy[0]]
+        for point in xy[1:]:
+            if math.dist(point, kept[-1]) >= MIN_STEP_M:
+                kept.append(point)
+        waypoints = [(float(x), float(y)) for x, y in kept]
+        try:
+            return RouteSpec.model_validate(self.model_dump() | {"waypoints": waypoints})
+        except ValidationError as error:
+            problem = error.errors()[0]
+            raise ConfigError(f"{where}: the recorded poses: {problem['msg']}") from None
 
     def in_world(self, grid_origin: tuple[float, float]) -> RouteSpec:
         """This route with world-frame waypoints (``grid_origin``: the capture grid's, metres)."""
@@ -149,7 +184,7 @@ class RouteSpec(_Strict):
     @property
     def trials_per_repeat(self) -> int:
         """Trials of one repeat: lengths x displacements."""
-        return len(self.trial_lengths()) * len(self.displacements_m or [None])
+        return len(self.lengths or [None]) * len(self.displacements_m or [None])
 
     @property
     def heading(self) -> float:
@@ -191,6 +226,12 @@ class RouteConfig(_Strict):
             raise ValueError("give either 'world' or 'database', not both")
         if self.database_path is not None and self.database is None:
             raise ValueError("'database_path' needs 'database'")
+        recorded = [k for k, route in enumerate(self.routes) if route.is_recorded]
+        if recorded and self.database is None:
+            raise ValueError(
+                f"routes.{recorded[0]}: waypoints 'recorded' follow a database's recorded poses; "
+                "give 'database' (a Brains on Board route folder)"
+            )
         problem = self._count_problem()
         if problem:
             raise ValueError(problem)
@@ -216,7 +257,8 @@ class RouteConfig(_Strict):
     def _omit_unused(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
         """The fields, without ``pairwise`` and ``familiarity`` when no method uses them and
         without ``methods`` and ``success_radius_m`` when not given: a klt-sector run's
-        resolved config (and its hash) is the same as before route runs had other methods."""
+        resolved config (and its hash) is the same as before route runs had other methods;
+        without ``world`` when the scene is a ``database``."""
         data = handler(self)
         kinds = {_kind(name) for _, name, _ in self.method_points()}
         for kind in ("pairwise", "familiarity"):
@@ -225,6 +267,8 @@ class RouteConfig(_Strict):
         for name in ("methods", "success_radius_m"):
             if name not in self.model_fields_set:
                 data.pop(name, None)
+        if self.database is not None:  # no world then: the resolved config reads back
+            data.pop("world", None)
         return data
 
     def _count_problem(self) -> str:
@@ -234,7 +278,7 @@ class RouteConfig(_Strict):
         k = trials.index(max(trials))
         counts = {
             f"routes[{k}].repeats": self.routes[k].repeats,
-            f"routes[{k}].lengths": len(self.routes[k].trial_lengths()),
+            f"routes[{k}].lengths": len(self.routes[k].lengths or [None]),
             f"routes[{k}].displacements_m": len(self.routes[k].displacements_m or [None]),
             "methods": sum(entry.n_points for entry in self.methods),
         }

@@ -113,16 +113,27 @@ class RouteTrial:
         return Pose(end.x + d * math.cos(left), end.y + d * math.sin(left), end.heading)
 
 
-def world_routes(config: RouteConfig) -> list[RouteSpec]:
-    """The config's routes with world-frame waypoints (grid-frame ones placed on the scene's
-    capture grid; a database is opened only when a route needs its grid)."""
-    if all(route.frame == "world" for route in config.routes):
+def world_routes(config: RouteConfig, config_path: Path | str = "config") -> list[RouteSpec]:
+    """The config's routes with world-frame waypoints: grid-frame ones placed on the scene's
+    capture grid, recorded ones along its recorded poses (a database is opened only when a
+    route needs it). ConfigError naming the route when its database has no recorded poses."""
+    if all(route.frame == "world" and not route.is_recorded for route in config.routes):
         return list(config.routes)
-    if config.database is None:
-        origin = config.world.to_grid().origin
-    else:
-        origin = route_scene(config).grid_origin
-    return [route.in_world(origin) for route in config.routes]
+    scene = None if config.database is None else route_scene(config)
+    origin = config.world.to_grid().origin if scene is None else scene.grid_origin
+    routes = []
+    for k, route in enumerate(config.routes):
+        where = f"{config_path}: routes.{k} ({route.name})"
+        if not route.is_recorded:
+            routes.append(route.in_world(origin))
+        elif scene is None or scene.recorded is None:
+            raise ConfigError(
+                f"{where}: waypoints 'recorded' follow a recorded route; database "
+                f"{config.database!r} is a grid (give waypoints)"
+            )
+        else:
+            routes.append(route.replayed(scene.recorded.xy, where))
+    return routes
 
 
 def plan_trials(config: RouteConfig) -> list[RouteTrial]:
@@ -221,8 +232,8 @@ def check_routes(config: RouteConfig, scene: Scene, config_path: Path) -> None:
     """ConfigError naming the route unless the scene can show every point along it and every
     displaced homing start (placed from the planned end of its trial's route)."""
     index = {route.name: k for k, route in enumerate(config.routes)}
-    for k, route in enumerate(config.routes):
-        points = np.asarray(route.in_world(scene.grid_origin).waypoints, dtype=np.float64)
+    for k, route in enumerate(world_routes(config, config_path)):
+        points = np.asarray(route.waypoints, dtype=np.float64)
         for a, b in zip(points[:-1], points[1:], strict=True):
             n = max(1, math.ceil(math.dist(a, b) / CHECK_SPACING))
             for x, y in a + np.linspace(0.0, 1.0, n + 1)[:, None] * (b - a):

@@ -1,0 +1,188 @@
+"""Recorded routes (Brains on Board route folders) replayed in route runs: the scene shows the
+recorded image nearest to the robot turned to its heading, ``waypoints: recorded`` follows the
+recorded poses, and a route run over a hand-written route folder homes with both families
+(a pairwise method and a route-learning one) and writes its report.
+
+The folder is tests/bob_folders.py's: ten poses on an arc of radius 1 m (0 to 90 deg around the
+arena centre), each image rendered exactly at its pose and heading, written as BoB's recorders
+write them (mm, degrees, spaces after commas, OpenCV's metadata)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from bob_folders import ROUTE_POSES, route_poses, write_grid, write_route
+from click.testing import CliRunner
+from synthetic_panorama import GEOMETRY, render
+
+from homebench.cli import main
+from homebench.config import UnfoldConfig
+from homebench.data.bob import open_bob
+from homebench.data.synth.world import PoseError
+from homebench.errors import ConfigError
+from homebench.experiments.route.config import RouteConfig
+from homebench.experiments.route.experiment import plan_trials
+from homebench.experiments.scene import open_scene, posed_scene, sparsest_spacing
+from homebench.geometry import Pose
+
+#: Chord between neighbouring recorded poses: 1 m x 2 sin(90 deg / 9 / 2).
+STEP_M = 2.0 * math.sin(math.radians(90.0 / (ROUTE_POSES - 1) / 2.0))
+
+
+@pytest.fixture(scope="module")
+def route(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_route(tmp_path_factory.mktemp("bob") / "arena-route")
+
+
+def _pose(k: int, turn_deg: float = 0.0) -> Pose:
+    x, y, heading = route_poses()[k]
+    return Pose(x / 1000.0, y / 1000.0, math.radians(heading + turn_deg))
+
+
+def test_the_scene_shows_the_nearest_recorded_image_turned_to_the_pose(route: Path) -> None:
+    """At a recorded pose the scene gives that image; turned a quarter, the image rolled by a
+    quarter of its columns (ccw turn: the world moves to lower azimuths, the left); near a
+    pose, that pose's image; beyond the sparsest spacing, no image."""
+    scene = posed_scene(open_bob(route), UnfoldConfig())
+    assert scene.grid is None and scene.geometry == GEOMETRY
+    for k in (0, 4, 9):
+        recorded = render(_pose(k)).image
+        assert np.array_equal(scene.render(_pose(k), 0), recorded)
+        turned = scene.render(_pose(k, 90.0), 0)
+        assert np.array_equal(turned, np.roll(recorded, -GEOMETRY.width // 4, axis=1))
+    near = _pose(3)
+    assert np.array_equal(
+        scene.render(Pose(near.x + 0.03, near.y, near.heading), 0), render(near).image
+    )
+    assert sparsest_spacing(scene.recorded.xy) == pytest.approx(STEP_M, abs=1e-4)
+    with pytest.raises(PoseError, match="farther than its sparsest spacing"):
+        scene.check_pose(Pose(0.3, 0.3, 0.0))  # 0.58 m from the arc
+
+
+def test_recorded_waypoints_follow_the_recording_in_metres(route: Path) -> None:
+    config = RouteConfig.model_validate(
+        {
+            "kind": "route", "output": "out", "database": str(route),
+            "routes": [{"name": "arc", "waypoints": "recorded", "lengths": [0.5, 1.5]}],
+        }
+    )  # fmt: skip
+    # the resolved config reads back (it held the default world beside the database: refused)
+    assert RouteConfig.model_validate(config.model_dump(mode="json")) == config
+    trials = plan_trials(config)
+    assert [t.name for t in trials] == ["arc-0.5m", "arc-1.5m"]
+    whole = np.array([(x / 1000.0, y / 1000.0) for x, y, _ in route_poses()])
+    kept = trials[1].waypoints  # the recorded poses, then where 1.5 m ends on the last chord
+    assert np.allclose(kept[:-1], whole[: len(kept) - 1])
+    assert len(kept) == ROUTE_POSES and math.dist(kept[-1], whole[-1]) < STEP_M
+    assert trials[0].waypoints[0] == pytest.approx((1.0, 0.0))
+    along_first_chord = math.radians(90.0 + 90.0 / 18)
+    assert trials[0].heading == pytest.approx(along_first_chord, abs=1e-4)
+
+
+@pytest.mark.parametrize(
+    ("routes", "message"),
+    [
+        ([{"name": "arc", "waypoints": "recorded", "lengths": [2.0]}], "exceeds the route's"),
+        (
+            [{"name": "arc", "waypoints": "recorded", "frame": "grid"}],
+            "recorded waypoints are the database's poses",
+        ),
+    ],
+)
+def test_recorded_routes_that_cannot_be_replayed_say_why(
+    route: Path, tmp_path: Path, routes: list, message: str
+) -> None:
+    path = tmp_path / "route.yaml"
+    path.write_text(
+        yaml.safe_dump(
+            {
+                "kind": "route",
+                "output": str(tmp_path / "run"),
+                "database": str(route),
+                "routes": routes,
+            }
+        )  # fmt: skip
+    )
+    result = CliRunner().invoke(main, ["run", str(path), "--no-progress"])
+    assert result.exit_code == 2, result.output
+    assert message in result.output
+    assert not (tmp_path / "run" / "routes").exists()
+
+
+def test_recorded_waypoints_need_a_recording(tmp_path: Path) -> None:
+    route = {"name": "arc", "waypoints": "recorded"}
+    with pytest.raises(ValueError, match="give 'database'"):
+        RouteConfig.model_validate({"kind": "route", "output": "out", "routes": [route]})
+    grid = write_grid(tmp_path / "arena-grid")
+    config = RouteConfig.model_validate(
+        {"kind": "route", "output": "out", "database": str(grid), "routes": [route]}
+    )
+    with pytest.raises(ConfigError, match="is a grid"):
+        plan_trials(config)
+    # a grid folder keeps its grid scene: nearest grid images
+    assert open_scene(config.world, str(grid), None, UnfoldConfig()).grid is not None
+
+
+def test_a_closed_loop_run_on_a_recording_says_it_needs_a_grid(route: Path, tmp_path: Path) -> None:
+    path = tmp_path / "loop.yaml"
+    path.write_text(
+        yaml.safe_dump(
+            {
+                "kind": "closed-loop",
+                "output": str(tmp_path / "run"),
+                "database": str(route),
+                "methods": [{"method": "warping"}],
+                "controls": ["truth"],
+                "goals": [{"grid": [0, 0]}],
+                "starts": {"spacing": 0.5},
+            }
+        )  # fmt: skip
+    )
+    result = CliRunner().invoke(main, ["run", str(path), "--no-progress"])
+    assert result.exit_code == 2, result.output
+    assert "is a recording" in result.output and "waypoints: recorded" in result.output
+
+
+def test_a_route_run_replays_a_recorded_route_with_both_families(
+    route: Path, tmp_path: Path
+) -> None:
+    """The recorded arc driven out and homed by warping (snapshots) and perfect-memory (every
+    outbound view) from the same drive, probed along the route; the report pairs the two.
+    The trial's waypoints are the recording's; both methods' views are recorded images (the
+    robot never leaves the recording's reach, or its trial would end as lost)."""
+    config = {
+        "kind": "route",
+        "name": "recorded-arc",
+        "output": str(tmp_path / "run"),
+        "database": str(route),
+        "routes": [{"name": "arc", "waypoints": "recorded"}],
+        "motion": {"step_length": 0.1, "max_turn_deg": 30},
+        "drift": {"heading_bias": 0.02, "translation_var": 1e-5},
+        "methods": [{"method": "perfect-memory"}, {"method": "warping"}],
+        "pairwise": {"snapshots": {"spacing_m": 0.35}, "max_leg_steps": 20},
+        "familiarity": {"near_home_m": 0.3, "probes": {"spacing_m": 0.5, "offsets_m": [0.0]}},
+    }
+    path = tmp_path / "route.yaml"
+    path.write_text(yaml.safe_dump(config))
+    result = CliRunner().invoke(main, ["run", str(path), "--no-progress"])
+    assert result.exit_code == 0, result.output
+    assert "2 trial(s) computed, 0 reused" in result.output
+    tables = tmp_path / "run" / "tables"
+    routes = pd.read_csv(tables / "routes.csv").set_index("method")
+    assert list(routes.index) == ["perfect-memory", "warping"]
+    assert routes["odometry_error_m"].nunique() == 1  # the same drive and baseline
+    assert routes["length_m"].iloc[0] == pytest.approx(math.pi / 2, abs=0.01)
+    probes = pd.read_csv(tables / "route_probes.csv")
+    assert probes["seen"].all() and (probes["method"] == "perfect-memory").all()
+    # on the route, perfect memory points along it (the views are the recorded images)
+    assert routes.loc["perfect-memory", "probe_error_on_route_deg"] < 10
+    report = CliRunner().invoke(main, ["report", str(tmp_path / "run")])
+    assert report.exit_code == 0, report.output
+    assert (tmp_path / "run" / "report" / "report.pdf").stat().st_size > 0
+    paired = pd.read_csv(tmp_path / "run" / "report" / "tables" / "routes_paired.csv")
+    assert ("perfect-memory", "warping") in set(zip(paired["A"], paired["B"], strict=True))
