@@ -107,9 +107,7 @@ def _prepare(
     if generator is not None:
         identity = database_key = f"{manifest.name}-{generator.spec.key()}"
     else:
-        root = str(database.root.resolve())  # and a config's camera model of a BoB folder:
-        images = [root, ref.images.model_dump(mode="json")] if ref.images is not None else root
-        identity = f"{manifest.name}-{stable_hash(images, 12)}"
+        identity = f"{manifest.name}-{real_identity(database)}"
         database_key = f"{manifest.name}-{content_key(database, kinds)}"
     needs_unfold = "unfolded" not in manifest.kinds
     return Source(
@@ -124,6 +122,15 @@ def _prepare(
         style=generator.spec.style if generator is not None else None,
         overrides=ref.overrides,
     )
+
+
+def real_identity(database: GridDatabase) -> str:
+    """12 hex digits naming a real set as a run reads it: its folder and what its manifest says
+    of the images (grid, headings, camera models; a BoB folder's as its homebench.yaml and the
+    config's ``images:`` state them), so that correcting a heading or a camera model
+    recomputes what was computed with the old one."""
+    manifest = database.manifest.model_dump(mode="json", exclude={"name", "description"})
+    return stable_hash([str(database.root.resolve()), manifest], 12)
 
 
 def content_key(database: GridDatabase, kinds: tuple[ImageKind, ...]) -> str:
