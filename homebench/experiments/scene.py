@@ -21,8 +21,9 @@ from homebench.data import catalog
 from homebench.data.database import GridDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
+from homebench.errors import DataError
 from homebench.evaluation.sources import database_view
-from homebench.geometry import Grid, PanoramaGeometry, Pose, wrap_angle
+from homebench.geometry import Grid, PanoramaGeometry, Pose, is_places, wrap_angle
 from homebench.hashing import derived_seed
 from homebench.imaging.rotation import rotate_view
 from homebench.views import View
@@ -69,6 +70,11 @@ def world_scene(spec: WorldSpec) -> Scene:
 @lru_cache(maxsize=4)
 def _database(locator: str, path: Path | None) -> GridDatabase:
     database = catalog.resolve(locator, path)
+    if is_places(database.grid):
+        raise DataError(
+            f"{locator}: {database.grid.shape[0]} posed images, not a grid: route and "
+            "closed-loop experiments read the nearest image of a grid database"
+        )
     database.check_layout()
     return database
 
