@@ -44,7 +44,7 @@ from homebench.data.catalog import find_manifest, resolve
 from homebench.data.database import GridDatabase
 from homebench.data.generate import generate, manifest_for_spec
 from homebench.data.manifest import Manifest, load_manifest
-from homebench.errors import ConfigError, DataError
+from homebench.errors import ConfigError
 from homebench.fileio import read_grey
 from homebench.geometry import angular_error, home_direction
 from homebench.methods import registry
