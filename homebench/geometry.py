@@ -27,7 +27,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -222,9 +222,15 @@ class Places(Grid):
     def nearest_index(self, xy: ArrayLike) -> NDArray[np.int64]:
         """Index (k, 0) of the nearest place of world points (shape (..., 2))."""
         p = np.asarray(xy, dtype=np.float64)
-        d = np.linalg.norm(p[..., None, :] - self.points, axis=-1)
-        k = np.argmin(d, axis=-1)
+        _, k = self._tree.query(p.reshape(-1, 2))
+        k = np.asarray(k, dtype=np.int64).reshape(p.shape[:-1])
         return np.stack([k, np.zeros_like(k)], axis=-1)
+
+    @functools.cached_property
+    def _tree(self) -> Any:
+        from scipy.spatial import cKDTree  # imported where needed: most runs need none
+
+        return cKDTree(self.points)
 
     @property
     def perimeter(self) -> float:
@@ -234,17 +240,16 @@ class Places(Grid):
 
 def nearest_spacing(points: FloatArray) -> float:
     """Median distance (metres) from each of ``points`` (n, 2) to its nearest other point,
-    coincident points left out; 1.0 when there is none (one point, or all at one place).
-    Blocks of rows keep the memory at O(n) rows of 1024."""
-    nearest = []
-    for start in range(0, len(points), 1024):
-        block = points[start : start + 1024]
-        d = np.linalg.norm(block[:, None, :] - points[None, :, :], axis=-1)
-        d[d <= 0] = np.inf
-        nearest.append(d.min(axis=1))
-    found = np.concatenate(nearest) if nearest else np.array([])
-    found = found[np.isfinite(found)]
-    return float(np.median(found)) if found.size else 1.0
+    points with another at the same place left out; 1.0 when none is left (one point, or all
+    at one place). O(n log n) by a k-d tree."""
+    if len(points) < 2:
+        return 1.0
+    from scipy.spatial import cKDTree  # imported where needed: most runs need none
+
+    distances, _ = cKDTree(points).query(points, k=2)
+    nearest = distances[:, 1]
+    nearest = nearest[nearest > 0]
+    return float(np.median(nearest)) if nearest.size else 1.0
 
 
 def is_places(grid: Grid) -> bool:

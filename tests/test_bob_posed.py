@@ -278,3 +278,23 @@ def _refused(folder: Path, database: Path, change: dict) -> tuple[str, set[str]]
     assert len(errors) == 1, result.stderr
     run = folder / "run"
     return errors[0], {str(p.relative_to(run)) for p in run.rglob("*")} if run.exists() else set()
+
+
+@pytest.mark.parametrize("other", ["grid", "route"])
+def test_a_condition_pairs_posed_places_only_with_the_same_places(
+    grid_folder: Path, posed_folder: Path, tmp_path: Path, other: str
+) -> None:
+    if other == "grid":
+        database = grid_folder
+    else:
+        database = tmp_path / "route"
+        _write_route(grid_folder, database)
+    config = {
+        "name": "mixed", "output": str(tmp_path / "run"),
+        "databases": {"a": str(posed_folder), "b": str(database)},
+        "conditions": ["a-b"], "goals": [[1, 0]], "methods": [{"method": "alv"}],
+    }  # fmt: skip
+    result = run_config(tmp_path, config)
+    assert result.exit_code == 2, result.output
+    assert "conditions: 'a-b' pairs databases with different places" in result.stderr
+    assert not (tmp_path / "run" / "tables").exists()
