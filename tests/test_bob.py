@@ -196,15 +196,22 @@ def test_a_config_entry_states_the_camera(grid: Path, tmp_path: Path) -> None:
     assert refused.exit_code == 2 and "'images' is for Brains on Board folders" in refused.stderr
 
 
-def test_a_route_folder_is_verified_and_grid_commands_say_they_need_a_grid(route: Path) -> None:
+def test_a_route_folder_is_verified_shown_and_data_check_says_it_needs_a_grid(
+    route: Path, tmp_path: Path
+) -> None:
     verified = _data("verify", str(route))
     assert verified.exit_code == 0, verified.output
     assert f"{ROUTE_POSES} images OK" in verified.stdout
     assert "a route of 10 poses, 1.57 m long" in verified.stdout
-    for command in ("show", "check"):
-        line = _error_line(_data(command, str(route)))
-        assert str(route) in line and "not a grid; this needs a grid database" in line
-        assert "data show and data check read grids only (a run reads any posed images)" in line
+    line = _error_line(_data("check", str(route)))
+    assert str(route) in line and "not a grid; this needs a grid database" in line
+    assert "data check reads grids only (runs and data show read any posed images)" in line
+    shown = _data("show", str(route), "--out", str(tmp_path))
+    assert shown.exit_code == 0, shown.output
+    assert "a route of 10 poses, 1.57 m long, not a grid" in shown.stdout
+    assert (tmp_path / "arena-route_poses.png").is_file()
+    outside = _error_line(_data("show", str(route), "--out", str(tmp_path), "--at", "3", "1"))
+    assert "holds 10 posed images, not a grid: image k is place (k, 0), k in 0..9" in outside
     places = resolve(route)  # what a run reads: image k at (k, 0) of posed places
     assert places.grid.shape == (ROUTE_POSES, 1)
     x, y, _ = route_poses()[4]

@@ -112,13 +112,13 @@ class PosedDatabase:
         return f"a route of {len(self)} poses, {length:.2f} m long"
 
     def grid_database(self) -> ListedGridDatabase:
-        """The images as a grid database; DataError when they have no grid (``data show`` and
-        ``data check`` read grids only; a run reads any posed images: :meth:`database`)."""
+        """The images as a grid database; DataError when they have no grid (``data check``
+        reads grids only; runs and ``data show`` read any posed images: :meth:`database`)."""
         if self.grid is None or self.grid_index is None:
             raise DataError(
                 f"{self.root}: {self.layout()}, not a grid; this needs a grid database (rows "
-                f"with Grid X, Grid Y, Grid Z in its {self.listing}): data show and data check "
-                "read grids only (a run reads any posed images)"
+                f"with Grid X, Grid Y, Grid Z in its {self.listing}): data check reads grids "
+                "only (runs and data show read any posed images)"
             )
         return self._listed(self.grid, self.grid_index)
 
