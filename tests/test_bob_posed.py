@@ -298,3 +298,34 @@ def test_a_condition_pairs_posed_places_only_with_the_same_places(
     assert result.exit_code == 2, result.output
     assert "conditions: 'a-b' pairs databases with different places" in result.stderr
     assert not (tmp_path / "run" / "tables").exists()
+
+
+def test_a_corrected_pose_recomputes_the_jobs_that_read_it(
+    posed_folder: Path, tmp_path: Path
+) -> None:
+    """The images' contents are in every key; a posed database's poses are in its listing, so
+    its jobs' keys hold them too: a resumed run does not reuse a result of the old pose."""
+    folder = tmp_path / "edited"
+    shutil.copytree(posed_folder, folder)
+    config = {
+        "name": "resume", "output": str(tmp_path / "run"), "databases": {"db": str(folder)},
+        "conditions": ["db-db"], "goals": [[1, 0]], "methods": [{"method": "alv"}],
+    }  # fmt: skip
+    outputs = []
+    for edit in (False, False, True):
+        if edit:  # image 3 turned by 90 deg in the listing, its file unchanged
+            lines = (folder / "database_entries.csv").read_text().splitlines()
+            cells = lines[4].split(", ")
+            cells[3] = f"{float(cells[3]) + 90:g}"
+            lines[4] = ", ".join(cells)
+            (folder / "database_entries.csv").write_text("\n".join(lines) + "\n")
+        result = run_config(tmp_path, config)
+        assert result.exit_code == 0, result.output
+        outputs.append(pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv"))
+        computed = "1 job(s) computed, 0 reused" if edit or len(outputs) == 1 else "0 job(s) "
+        assert computed in result.stdout, result.stdout
+    before, after = (frame.set_index("current_i") for frame in outputs[1:])
+    assert after.loc[3, "heading_deg"] == pytest.approx(before.loc[3, "heading_deg"] + 90)
+    turned = math.cos(after.loc[3, "truth_rad"] - before.loc[3, "truth_rad"] + math.pi / 2)
+    assert turned == pytest.approx(1.0)
+    assert after.drop(index=3)["truth_rad"].equals(before.drop(index=3)["truth_rad"])

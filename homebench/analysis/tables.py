@@ -112,9 +112,8 @@ def posed_rows(pairs: pd.DataFrame) -> pd.Series:
     return pairs["grid"].map(_is_posed_spec).astype(bool)
 
 
-@functools.lru_cache(maxsize=64)
 def _is_posed_spec(spec: str) -> bool:
-    return '"places"' in spec
+    return is_places(_grid_from(spec))
 
 
 def goal_fields(
