@@ -25,6 +25,7 @@ All angles are radians unless a name ends in ``_deg``. Angle arrays may be any s
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from typing import Any, Literal
@@ -241,15 +242,16 @@ class Places(Grid):
 def nearest_spacing(points: FloatArray) -> float:
     """Median distance (metres) from each of ``points`` (n, 2) to its nearest other point,
     points with another at the same place left out; 1.0 when none is left (one point, or all
-    at one place). O(n log n) by a k-d tree."""
+    at one place, or too far apart to measure). O(n log n) by a k-d tree."""
     if len(points) < 2:
         return 1.0
     from scipy.spatial import cKDTree  # imported where needed: most runs need none
 
     distances, _ = cKDTree(points).query(points, k=2)
     nearest = distances[:, 1]
-    nearest = nearest[nearest > 0]
-    return float(np.median(nearest)) if nearest.size else 1.0
+    nearest = nearest[(nearest > 0) & np.isfinite(nearest)]  # beyond floats: left out
+    spacing = float(np.median(nearest)) if nearest.size else 1.0
+    return spacing if math.isfinite(spacing) and spacing > 0 else 1.0
 
 
 def is_places(grid: Grid) -> bool:
