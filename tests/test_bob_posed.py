@@ -133,6 +133,15 @@ def test_posed_places_give_the_grid_runs_ae_and_ahc_and_no_rr(
     np.testing.assert_allclose(posed_bands["pairs"], grid_bands["pairs"])
     np.testing.assert_allclose(posed_bands["ahc"], grid_bands["ahc"], atol=1e-9)
 
+    runs = [str(tmp_path / name / "run") for name in ("grid", "posed")]
+    for command in (["leaderboard", "--metric", "rr"], ["compare"]):
+        read = CliRunner().invoke(main, [*command, *runs, "--label", "grid", "--label", "posed"])
+        assert read.exit_code == 0, read.output
+    board = CliRunner().invoke(main, ["leaderboard", *runs, "--label", "grid", "--label", "posed"])
+    # the two are other databases (the images' positions are in their keys): a column each
+    assert board.exit_code == 0, board.output
+    assert board.stdout.count("db-db @ tiny-world-") == 2
+
 
 def test_random_goals_and_a_distance_range_on_posed_places(
     posed_folder: Path, tmp_path: Path
