@@ -178,15 +178,26 @@ def data_verify(database: str, path: Path | None) -> None:
     "--out", type=click.Path(path_type=Path), default=Path("."), show_default=True,
     help="Folder for the PNG.",
 )  # fmt: skip
-@click.option("--at", nargs=2, type=int, help="Grid position shown large (default: centre).")
+@click.option(
+    "--at", nargs=2, type=int,
+    help="Grid position shown large (default: centre); K 0 for image K of posed images.",
+)  # fmt: skip
 def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] | None) -> None:
-    """Write a contact sheet PNG of DATABASE (the grid, one raw + unfolded pair)."""
-    from homebench.report.contact_sheet import write_contact_sheet
+    """Write a contact sheet PNG of DATABASE (the grid, one raw + unfolded pair; of posed
+    images, a Brains on Board route say, a map of the poses beside one image)."""
+    from homebench.report.contact_sheet import write_contact_sheet, write_pose_sheet
 
-    db = _open_database(database, path).database
+    opened = _open_database(database, path)
+    posed = opened.posed if opened.grid is None else None
+    db = opened.database if posed is None else posed.database()
     db.check_layout()
     sample = at or (db.grid.shape[0] // 2, db.grid.shape[1] // 2)
+    db.path(*sample, db.kinds[0])  # DataError naming the grid when --at is outside it
     out.mkdir(parents=True, exist_ok=True)
+    if posed is not None:
+        written = write_pose_sheet(db, out / f"{db.name}_poses.png", sample[0], posed.layout())
+        click.echo(f"{opened.label}: {posed.layout()}, not a grid; {written}")
+        return
     written = write_contact_sheet(db, out / f"{db.name}_contact_sheet.png", sample)
     click.echo(str(written))
 

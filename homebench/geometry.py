@@ -24,9 +24,11 @@ All angles are radians unless a name ends in ``_deg``. Angle arrays may be any s
 
 from __future__ import annotations
 
+import functools
+import math
 from collections.abc import Iterator
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -169,6 +171,92 @@ class Grid:
     def pose(self, i: int, j: int, heading: float = 0.0) -> Pose:
         x, y = self.position(i, j)
         return Pose(float(x), float(y), heading)
+
+
+@dataclass(frozen=True, repr=False)
+class Places(Grid):
+    """Posed places (a route, or any set of posed images): image ``k`` is addressed as grid
+    index (k, 0) of an (n, 1) layout and sits at ``xy[k]`` (metres), so that the engine's
+    grid-indexed planning, jobs and true home directions serve it unchanged. Build it with
+    :meth:`of`. ``spacing`` is the median distance to the nearest other place (metres; 1
+    where all places coincide), ``origin`` the first place: nominal, for messages only, as
+    places have no neighbours along grid axes (no return ratio, catchment or grid maps)."""
+
+    xy: tuple[tuple[float, float], ...] = ()
+
+    @classmethod
+    def of(cls, xy: ArrayLike) -> Places:
+        """The places at ``xy`` (n, 2) metres, n >= 1, in that order."""
+        points = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+        if len(points) < 1 or not np.all(np.isfinite(points)):
+            raise ValueError("places need at least one pose, all finite")
+        spacing = nearest_spacing(points)
+        origin = (float(points[0, 0]), float(points[0, 1]))
+        xy_tuple = tuple((float(x), float(y)) for x, y in points)
+        return cls((len(points), 1), spacing, origin, xy_tuple)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.shape != (len(self.xy), 1):
+            raise ValueError(f"places of shape {self.shape} need {self.shape[0]} poses")
+
+    @functools.cached_property
+    def points(self) -> FloatArray:
+        """The places' positions, (n, 2) metres."""
+        return np.asarray(self.xy, dtype=np.float64).reshape(-1, 2)
+
+    @functools.cached_property
+    def _hash(self) -> int:
+        return hash((self.shape, self.xy))
+
+    def __hash__(self) -> int:  # sources hash by their grid per view: once, not per pose
+        return self._hash
+
+    def __repr__(self) -> str:
+        return f"Places({self.shape[0]} poses, from {self.origin})"
+
+    def position(self, i: ArrayLike, j: ArrayLike) -> FloatArray:
+        """World position (x, y) in metres of place i (j must be 0); shape (..., 2)."""
+        k, _ = np.broadcast_arrays(np.asarray(i, dtype=np.int64), np.asarray(j))
+        return self.points[k]
+
+    def nearest_index(self, xy: ArrayLike) -> NDArray[np.int64]:
+        """Index (k, 0) of the nearest place of world points (shape (..., 2))."""
+        p = np.asarray(xy, dtype=np.float64)
+        _, k = self._tree.query(p.reshape(-1, 2))
+        k = np.asarray(k, dtype=np.int64).reshape(p.shape[:-1])
+        return np.stack([k, np.zeros_like(k)], axis=-1)
+
+    @functools.cached_property
+    def _tree(self) -> Any:
+        from scipy.spatial import cKDTree  # imported where needed: most runs need none
+
+        return cKDTree(self.points)
+
+    @property
+    def perimeter(self) -> float:
+        """Perimeter of the places' bounding rectangle in metres."""
+        return 2.0 * float(np.sum(np.ptp(self.points, axis=0)))
+
+
+def nearest_spacing(points: FloatArray) -> float:
+    """Median distance (metres) from each of ``points`` (n, 2) to its nearest other point,
+    points with another at the same place left out; 1.0 when none is left (one point, or all
+    at one place, or too far apart to measure). O(n log n) by a k-d tree."""
+    if len(points) < 2:
+        return 1.0
+    from scipy.spatial import cKDTree  # imported where needed: most runs need none
+
+    distances, _ = cKDTree(points).query(points, k=2)
+    nearest = distances[:, 1]
+    nearest = nearest[(nearest > 0) & np.isfinite(nearest)]  # beyond floats: left out
+    spacing = float(np.median(nearest)) if nearest.size else 1.0
+    return spacing if math.isfinite(spacing) and spacing > 0 else 1.0
+
+
+def is_places(grid: Grid) -> bool:
+    """Whether ``grid`` is :class:`Places` (posed images), not a regular grid."""
+    return isinstance(grid, Places)
 
 
 def grid_key(i: int, j: int) -> str:

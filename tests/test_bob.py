@@ -44,7 +44,7 @@ from homebench.data.catalog import find_manifest, resolve
 from homebench.data.database import GridDatabase
 from homebench.data.generate import generate, manifest_for_spec
 from homebench.data.manifest import Manifest, load_manifest
-from homebench.errors import ConfigError, DataError
+from homebench.errors import ConfigError
 from homebench.fileio import read_grey
 from homebench.geometry import angular_error, home_direction
 from homebench.methods import registry
@@ -196,29 +196,27 @@ def test_a_config_entry_states_the_camera(grid: Path, tmp_path: Path) -> None:
     assert refused.exit_code == 2 and "'images' is for Brains on Board folders" in refused.stderr
 
 
-def test_a_run_refuses_a_route_folder(route: Path, tmp_path: Path) -> None:
-    config = {
-        "name": "bob-route", "output": str(tmp_path / "run"), "databases": {"r": str(route)},
-        "conditions": ["r-r"], "goals": [[0, 0]], "methods": [{"method": "warping"}],
-    }  # fmt: skip
-    result = run_config(tmp_path, config)
-    assert result.exit_code == 2, result.output
-    assert f"{route}: a route of 10 poses" in result.stderr
-    assert "runs, data show and data check read grids only, for now" in result.stderr
-    assert not (tmp_path / "run" / "tables").exists()
-
-
-def test_a_route_folder_is_verified_and_grid_commands_say_they_need_a_grid(route: Path) -> None:
+def test_a_route_folder_is_verified_shown_and_data_check_says_it_needs_a_grid(
+    route: Path, tmp_path: Path
+) -> None:
     verified = _data("verify", str(route))
     assert verified.exit_code == 0, verified.output
     assert f"{ROUTE_POSES} images OK" in verified.stdout
     assert "a route of 10 poses, 1.57 m long" in verified.stdout
-    for command in ("show", "check"):
-        line = _error_line(_data(command, str(route)))
-        assert str(route) in line and "not a grid; this needs a grid database" in line
-        assert "runs, data show and data check read grids only, for now" in line
-    with pytest.raises(DataError, match="a route of 10 poses"):
-        resolve(route)
+    line = _error_line(_data("check", str(route)))
+    assert str(route) in line and "not a grid; this needs a grid database" in line
+    assert "data check reads grids only (runs and data show read any posed images)" in line
+    shown = _data("show", str(route), "--out", str(tmp_path))
+    assert shown.exit_code == 0, shown.output
+    assert "a route of 10 poses, 1.57 m long, not a grid" in shown.stdout
+    assert (tmp_path / "arena-route_poses.png").is_file()
+    outside = _error_line(_data("show", str(route), "--out", str(tmp_path), "--at", "3", "1"))
+    assert "holds 10 posed images, not a grid: image k is place (k, 0), k in 0..9" in outside
+    places = resolve(route)  # what a run reads: image k at (k, 0) of posed places
+    assert places.grid.shape == (ROUTE_POSES, 1)
+    x, y, _ = route_poses()[4]
+    assert places.pose(4, 0).x == pytest.approx(x / 1000)
+    assert places.pose(4, 0).y == pytest.approx(y / 1000)
 
 
 def test_route_poses_keep_their_order_in_metres_and_radians(route: Path) -> None:

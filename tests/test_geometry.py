@@ -142,3 +142,25 @@ def test_catadioptric_rejects_bad_profiles() -> None:
         CatadioptricGeometry(10, 10, (5, 5), (1.0, 1.0), (-0.1, 0.1))
     with pytest.raises(ValueError):
         CatadioptricGeometry(10, 10, (5, 5), (1.0, 4.0), (0.1, 0.2))
+
+
+def test_places_address_posed_images_as_k_0() -> None:
+    import pickle
+
+    from homebench.geometry import Places, is_places
+
+    places = Places.of([[0.0, 0.0], [1.0, 0.0], [1.0, 2.0], [1.0, 2.0]])
+    assert places.shape == (4, 1) and is_places(places) and not is_places(Grid((4, 1), 1.0))
+    assert list(places.indices()) == [(0, 0), (1, 0), (2, 0), (3, 0)]
+    assert places.contains(3, 0) and not places.contains(4, 0) and not places.contains(0, 1)
+    np.testing.assert_array_equal(places.position(2, 0), [1.0, 2.0])
+    np.testing.assert_array_equal(places.position([1, 0], [0, 0]), [[1.0, 0.0], [0.0, 0.0]])
+    np.testing.assert_array_equal(places.nearest_index([[0.9, 0.2], [0.1, 0.0]]), [[1, 0], [0, 0]])
+    assert places.spacing == 1.0  # median nearest distance, the coincident pair left out
+    assert places != Grid((4, 1), 1.0, (0.0, 0.0)) and places == Places.of(places.points)
+    copy = pickle.loads(pickle.dumps(places))
+    assert copy == places and hash(copy) == hash(places)
+    assert Places.of([[3.0, 4.0]]).spacing == 1.0 and Places.of([[0, 0], [0, 0]]).spacing == 1.0
+    assert Places.of([[0.0, 0.0], [1e308, 0.0], [-1e308, 0.0]]).spacing == 1.0
+    with pytest.raises(ValueError, match="finite"):
+        Places.of([[0.0, np.nan]])

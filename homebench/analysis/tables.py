@@ -32,7 +32,7 @@ from homebench.analysis.statistics import (
 )
 from homebench.config import AhcConfig, MetricsConfig
 from homebench.data.synth.spec import STYLES
-from homebench.geometry import Grid, wrap_angle
+from homebench.geometry import Grid, Places, is_places, wrap_angle
 from homebench.hashing import derived_seed
 
 GROUP = ["condition", "method"]
@@ -92,8 +92,28 @@ def with_rotation_errors(pairs: pd.DataFrame) -> pd.DataFrame:
 
 
 def _grid_of(group: pd.DataFrame) -> Grid:
-    spec = json.loads(group["grid"].iloc[0])
+    """The grid of a goal's pairs (their job record's), posed places where it lists them."""
+    return _grid_from(group["grid"].iloc[0])
+
+
+@functools.lru_cache(maxsize=64)
+def _grid_from(text: str) -> Grid:
+    """The grid of a job record's ``grid`` JSON ``text`` (read once per run and grid)."""
+    spec = json.loads(text)
+    if "places" in spec:
+        return Places.of(spec["places"])
     return Grid(tuple(spec["shape"]), spec["spacing"], tuple(spec["origin"]))
+
+
+def posed_rows(pairs: pd.DataFrame) -> pd.Series:
+    """Per pair, whether its current database holds posed places, not a grid (bool, (n,))."""
+    if "grid" not in pairs:
+        return pd.Series(False, index=pairs.index)
+    return pairs["grid"].map(_is_posed_spec).astype(bool)
+
+
+def _is_posed_spec(spec: str) -> bool:
+    return is_places(_grid_from(spec))
 
 
 def goal_fields(
@@ -122,13 +142,15 @@ def goal_fields(
 
 
 def _field_of(group: pd.DataFrame) -> tuple[HomeField, bool]:
-    """The home field of one goal's pairs and whether it covers the grid."""
+    """The home field of one goal's pairs and whether it covers the grid (never, for posed
+    places: they have no grid steps to take, so no return ratio or catchment)."""
     grid = _grid_of(group)
     angles = np.full(grid.shape, np.nan)
     estimates = group["estimate_world"].astype(float).to_numpy()
     angles[group["current_i"].to_numpy(), group["current_j"].to_numpy()] = estimates
     goal = (int(group["goal_i"].iloc[0]), int(group["goal_j"].iloc[0]))
-    return HomeField(grid, goal, angles), len(group) == grid.size - 1
+    complete = not is_places(grid) and len(group) == grid.size - 1
+    return HomeField(grid, goal, angles), complete
 
 
 def goal_tables(pairs: pd.DataFrame, metrics: MetricsConfig) -> tuple[pd.DataFrame, pd.DataFrame]:

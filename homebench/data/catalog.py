@@ -126,13 +126,13 @@ def find_manifest(
     name_or_path: str | Path, overrides: BobOverrides | None = None
 ) -> tuple[Manifest, Path | None]:
     """The manifest of a database name, manifest file or database folder (of a Brains on Board
-    grid database: the manifest it maps onto, with ``overrides``).
+    database: the manifest it maps onto, with ``overrides``; posed places as an (n, 1) grid).
 
     Returns the manifest and, when it was given by path, the folder it lives in.
     """
     folder = bob_folder(name_or_path, overrides=overrides)
     if folder is not None:
-        return open_bob(folder, overrides).grid_database().manifest, folder
+        return open_bob(folder, overrides).database().manifest, folder
     candidate = Path(name_or_path).expanduser()
     if (candidate / MANIFEST_NAME).is_file():
         return load_manifest(candidate / MANIFEST_NAME), candidate
@@ -183,10 +183,11 @@ def resolve(
     name_or_path: str | Path, path: Path | None = None, overrides: BobOverrides | None = None
 ) -> GridDatabase:
     """The database named by ``name_or_path``, with images in ``path`` or its usual place; a
-    Brains on Board grid database with ``overrides`` (its own folder holds its images)."""
+    Brains on Board database with ``overrides`` (its own folder holds its images), on its grid
+    or, without one, as posed places (:meth:`~homebench.data.posed.PosedDatabase.database`)."""
     folder = bob_folder(name_or_path, path, overrides)
     if folder is not None:
-        return open_bob(folder, overrides).grid_database()
+        return open_bob(folder, overrides).database()
     manifest, own_folder = find_manifest(name_or_path)
     if manifest.generator is not None:
         root = generated_location(manifest, own_folder, path)

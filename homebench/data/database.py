@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from homebench.data.manifest import Manifest
 from homebench.errors import DataError, MissingImagesError
 from homebench.fileio import check_image, read_grey
-from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose, is_places
 from homebench.views import ImageKind, View
 
 
@@ -48,6 +48,11 @@ class GridDatabase:
     def _check_position(self, i: int, j: int) -> None:
         if not self.grid.contains(i, j):
             nx, ny = self.grid.shape
+            if is_places(self.grid):
+                raise DataError(
+                    f"place ({i},{j}) is outside database {self.name!r}, which holds {nx} posed "
+                    f"images, not a grid: image k is place (k, 0), k in 0..{nx - 1}"
+                )
             raise DataError(
                 f"grid position ({i},{j}) is outside database {self.name!r}, whose grid is "
                 f"{nx} x {ny} (i in 0..{nx - 1}, j in 0..{ny - 1})"

@@ -39,7 +39,8 @@ class OpenedDatabase:
 
     @property
     def database(self) -> GridDatabase:
-        """The grid database; DataError naming the database when it is a route."""
+        """The grid database; DataError naming the database when it is a route (or other
+        posed images: ``posed.database()`` reads them as places)."""
         if self.grid is not None:
             return self.grid
         assert self.posed is not None

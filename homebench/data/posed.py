@@ -5,7 +5,8 @@ in homebench's world frame: x right, y up, headings counter-clockwise from +x), 
 order; one image kind per database. A database whose images carry grid indices is also a
 :class:`~homebench.data.database.GridDatabase` (:meth:`PosedDatabase.grid_database`), with the
 per-image headings as the manifest's ``headings_deg``: what the engine and the grid commands
-read.
+read. Any other (a route, any posed images) is read by the engine as posed places, image k at
+index (k, 0) (:meth:`PosedDatabase.database`, :class:`~homebench.geometry.Places`).
 """
 
 from __future__ import annotations
@@ -31,7 +32,14 @@ from homebench.data.manifest import (
 )
 from homebench.errors import DataError
 from homebench.fileio import check_image, read_grey
-from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose, grid_key
+from homebench.geometry import (
+    CatadioptricGeometry,
+    Grid,
+    PanoramaGeometry,
+    Places,
+    Pose,
+    grid_key,
+)
 from homebench.views import ImageKind, View
 
 #: Files named in a list before "and N more".
@@ -104,24 +112,35 @@ class PosedDatabase:
         return f"a route of {len(self)} poses, {length:.2f} m long"
 
     def grid_database(self) -> ListedGridDatabase:
-        """The images as a grid database; DataError when they have no grid (runs, ``data
-        show`` and ``data check`` read grids only, for now)."""
+        """The images as a grid database; DataError when they have no grid (``data check``
+        reads grids only; runs and ``data show`` read any posed images: :meth:`database`)."""
         if self.grid is None or self.grid_index is None:
             raise DataError(
                 f"{self.root}: {self.layout()}, not a grid; this needs a grid database (rows "
-                f"with Grid X, Grid Y, Grid Z in its {self.listing}): runs, data show and data "
-                "check read grids only, for now"
+                f"with Grid X, Grid Y, Grid Z in its {self.listing}): data check reads grids "
+                "only (runs and data show read any posed images)"
             )
+        return self._listed(self.grid, self.grid_index)
+
+    def database(self) -> ListedGridDatabase:
+        """The images as the engine reads them: on their grid, or else as posed places, image
+        k at index (k, 0) of :class:`~homebench.geometry.Places` (a route, or any poses)."""
+        if self.grid is not None and self.grid_index is not None:
+            return self._listed(self.grid, self.grid_index)
+        places = Places.of(self.xy)
+        index = np.stack([np.arange(len(self)), np.zeros(len(self), dtype=np.int64)], axis=1)
+        return self._listed(places, index)
+
+    def _listed(self, grid: Grid, grid_index: NDArray[np.int64]) -> ListedGridDatabase:
+        """The images on ``grid`` (a grid, or places), image k at ``grid_index[k]`` (n, 2)."""
         values, counts = np.unique(self.heading_deg, return_counts=True)
         heading = float(values[np.argmax(counts)])
-        keys = [grid_key(int(i), int(j)) for i, j in self.grid_index]
+        keys = [grid_key(int(i), int(j)) for i, j in grid_index]
         manifest = Manifest(
             schema=SCHEMA_VERSION,
             name=self.name,
             description=self.description,
-            grid=GridSection(
-                shape=self.grid.shape, spacing=self.grid.spacing, origin=self.grid.origin
-            ),
+            grid=GridSection(shape=grid.shape, spacing=grid.spacing, origin=grid.origin),
             heading_deg=heading,
             headings_deg={
                 k: float(h) for k, h in zip(keys, self.heading_deg, strict=True) if h != heading
@@ -129,9 +148,9 @@ class PosedDatabase:
             images=ImagesSection(**{self.kind: self._section()}),
         )
         files = {
-            (int(i), int(j)): name for (i, j), name in zip(self.grid_index, self.files, strict=True)
+            (int(i), int(j)): name for (i, j), name in zip(grid_index, self.files, strict=True)
         }
-        return ListedGridDatabase(manifest, self.root, files, self.notes)
+        return ListedGridDatabase(manifest, self.root, files, self.notes, grid)
 
     def _section(self) -> RawImages | UnfoldedImages:
         """The manifest section of the images (files listed, not named by its pattern)."""
@@ -151,7 +170,8 @@ def listed(names: list[str]) -> str:
 class ListedGridDatabase(GridDatabase):
     """A grid database whose image files are listed per position (``files``: relative to
     ``root``), not named by its manifest's pattern; its headings are the listing's, ``notes``
-    say what was assumed in reading it."""
+    say what was assumed in reading it. ``grid``, when given, replaces the manifest's: the
+    :class:`~homebench.geometry.Places` of posed images (of the manifest's shape (n, 1))."""
 
     def __init__(
         self,
@@ -159,10 +179,13 @@ class ListedGridDatabase(GridDatabase):
         root: Path,
         files: Mapping[tuple[int, int], str],
         notes: tuple[str, ...] = (),
+        grid: Grid | None = None,
     ):
         super().__init__(manifest, root)
         self.files = dict(files)
         self.notes = notes
+        if grid is not None:  # posed places: the manifest's (n, 1) grid with their poses
+            self.grid = grid
 
     @property
     def shared_heading_deg(self) -> float | None:

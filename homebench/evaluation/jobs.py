@@ -53,7 +53,7 @@ from homebench.evaluation.plan import (
 from homebench.evaluation.records import RESULT_FORMAT, ROW_COLUMNS, JobRecord, read_job_record
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import make_folder, write_bytes_atomic
-from homebench.geometry import home_direction, world_to_robot_xy
+from homebench.geometry import Grid, Places, home_direction, world_to_robot_xy
 from homebench.methods.base import batch_home, gives_direction
 from homebench.methods.visual_compass import (
     compass_turn,
@@ -392,16 +392,25 @@ def _home(job: HomeJob, run_dir: Path) -> None:
         "goal_i": job.goal.i,
         "goal_j": job.goal.j,
         "goal_heading": goal_heading,
-        "grid": {
-            "shape": list(current_db.grid.shape),
-            "spacing": current_db.grid.spacing,
-            "origin": list(current_db.grid.origin),
-        },
+        "grid": grid_record(current_db.grid),
         "rows": rows,
     }
     path = job.result_path(run_dir)
     make_folder(path.parent)
     write_bytes_atomic(path, _result_json(record))
+
+
+def grid_record(grid: Grid) -> dict[str, Any]:
+    """The ``grid`` of a job record: shape, spacing, origin, and the positions (n, 2) metres
+    of posed places (:class:`~homebench.geometry.Places`), so readers can tell them apart."""
+    record: dict[str, Any] = {
+        "shape": list(grid.shape),
+        "spacing": grid.spacing,
+        "origin": list(grid.origin),
+    }
+    if isinstance(grid, Places):
+        record["places"] = [list(xy) for xy in grid.xy]
+    return record
 
 
 def _result_json(record: dict[str, Any]) -> bytes:

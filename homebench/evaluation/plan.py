@@ -13,10 +13,11 @@ Code versions come from :mod:`~homebench.evaluation.code_version`, image content
 the jobs and features it touches. A home job's key also holds the content of every other view
 it reads (its ``context``): the grid neighbours of methods that sample around the current view
 (``uses_neighbours``), the route views of methods that track (``uses_route``), the unfolded
-views the visual compass compares and the headings the true compass turns by. A method entry's
-``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is part of its key; with a
-compass the current views are described inside the home job (turned back per pair), so describe
-jobs hold its goals only.
+views the visual compass compares and the headings the true compass turns by; on posed places
+(:class:`~homebench.geometry.Places`) the poses, which their listing holds, not the images. A
+method entry's ``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is part of
+its key; with a compass the current views are described inside the home job (turned back per
+pair), so describe jobs hold its goals only.
 
 Jobs carry database *sources* (paths and identities), never image arrays, so they travel cheaply
 to worker processes or a cluster.
@@ -39,7 +40,7 @@ from homebench.evaluation.code_version import code_version
 from homebench.evaluation.grid_routes import method_route
 from homebench.evaluation.image_hashes import image_hashes
 from homebench.evaluation.sources import Source, open_source
-from homebench.geometry import Grid
+from homebench.geometry import Grid, is_places
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
 from homebench.views import ImageKind
@@ -179,26 +180,36 @@ class Plan:
 
 
 def select_goals(config: RunConfig, grid: Grid, source: Path | str) -> list[tuple[int, int]]:
-    """The goal positions of the config, checked against the grid (ConfigError naming the key)."""
+    """The goal positions of the config, checked against the grid (ConfigError naming the key).
+    On posed places (:class:`~homebench.geometry.Places`) an explicit goal ``[k, 0]`` names
+    image k, the k-th row of the database's listing (from 0)."""
     if config.goals == "all":
         return list(grid.indices())
     if isinstance(config.goals, list):
         for k, (i, j) in enumerate(config.goals):
             if not grid.contains(i, j):
-                raise ConfigError(
-                    f"{source}: goals.{k}: ({i}, {j}) is outside the "
-                    f"{grid.shape[0]} x {grid.shape[1]} grid"
-                )
+                raise ConfigError(f"{source}: goals.{k}: ({i}, {j}) is outside {_layout(grid)}")
         return [tuple(g) for g in config.goals]
     positions = list(grid.indices())
     if config.goals.random > len(positions):
         raise ConfigError(
             f"{source}: goals.random: {config.goals.random} goals asked, "
-            f"the grid has {len(positions)} positions"
+            f"{_layout(grid)} has {len(positions)} positions"
         )
     rng = np.random.default_rng(config.goals.seed)
     chosen = rng.choice(len(positions), size=config.goals.random, replace=False)
     return [positions[k] for k in sorted(chosen)]
+
+
+def _layout(grid: Grid) -> str:
+    """The grid (or posed places) in words, for messages."""
+    nx, ny = grid.shape
+    if is_places(grid):
+        return (
+            f"the {nx} posed images (not a grid: a goal [k, 0] names image k, k = 0..{nx - 1}, "
+            "in the order of the database's listing)"
+        )
+    return f"the {nx} x {ny} grid"
 
 
 def select_currents(config: RunConfig, grid: Grid, goal: tuple[int, int]) -> list[tuple[int, int]]:
@@ -276,6 +287,28 @@ def described(job: HomeJob) -> tuple[ImageTask, ...]:
     return (job.goal,) if job.method.compass != "none" else (job.goal, *job.currents)
 
 
+def check_places(
+    source: Source, methods: list[MethodSpec], instances: dict[str, Any], config_path: Path | str
+) -> None:
+    """ConfigError naming the first method that reads grid neighbours (``uses_neighbours``) or
+    views along grid routes (``uses_route`` with a ``route_step`` above 0) when ``source``
+    holds posed places, which have neither."""
+    if not is_places(source.grid):
+        return
+    for method in methods:
+        instance = instances[method.label]
+        if getattr(instance, "uses_neighbours", False):
+            reads, remedy = "the grid neighbours of each current view", "leave the method out"
+        elif getattr(instance, "uses_route", False) and getattr(instance, "route_step", 0) > 0:
+            reads, remedy = "views along grid routes", "set its route_step to 0, or leave it out"
+        else:
+            continue
+        raise ConfigError(
+            f"{config_path}: methods: {method.label!r} ({method.method}) reads {reads}, but "
+            f"database {source.alias!r} holds posed images, not a grid: {remedy}"
+        )
+
+
 def check_size(
     config: RunConfig, sources: dict[tuple[str, SweptWorld], Source], config_path: Path | str
 ) -> None:
@@ -332,6 +365,8 @@ def make_plan(
             parts += [("compass", s.identity, *p, content(s, "unfolded", *p)) for s, p in read]
         if method.compass == "truth":
             parts += [("heading", s.identity, *p, open_source(s).heading(*p)) for s, p in read]
+        if current_src.poses or goal_src.poses:  # a corrected pose is another result
+            parts.append(("poses", current_src.poses, goal_src.poses))
         return stable_hash(parts) if parts else ""
 
     home: list[HomeJob] = []
@@ -339,10 +374,14 @@ def make_plan(
         for condition, current_alias, goal_alias in config.condition_pairs():
             current_src, goal_src = sources[current_alias, world], sources[goal_alias, world]
             if current_src.grid != goal_src.grid:
+                what = (
+                    "places" if is_places(current_src.grid) or is_places(goal_src.grid) else "grids"
+                )
                 raise ConfigError(
                     f"{config_path}: conditions: {condition!r} pairs databases with different "
-                    f"grids ({current_src.grid} vs {goal_src.grid})"
+                    f"{what} ({current_src.grid} vs {goal_src.grid})"
                 )
+            check_places(current_src, methods, instances, config_path)
             for goal in select_goals(config, goal_src.grid, config_path):
                 currents = [
                     (i, j, rotation_of(config, current_src, i, j))

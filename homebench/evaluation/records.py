@@ -56,11 +56,18 @@ class PairRow(TypedDict):
 ROW_COLUMNS = tuple(PairRow.__annotations__)
 
 
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
 @with_config(_STRICT)
 class GridRecord(TypedDict):
+    """The current database's grid; posed places (:class:`~homebench.geometry.Places`) add
+    ``places``: their positions (n, 2) in metres, the shape being (n, 1)."""
+
     shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
     spacing: Annotated[float, Field(gt=0, allow_inf_nan=False)]
     origin: tuple[float, float]
+    places: NotRequired[list[tuple[Finite, Finite]]]
 
 
 @with_config(_STRICT)
@@ -137,12 +144,15 @@ def read_record(adapter: TypeAdapter[R], path: Path, key: str) -> R | None:
 
 
 def read_job_record(path: Path, key: str) -> JobRecord | None:
-    """The result record of job ``key`` in ``path`` if it fits :class:`JobRecord` and its goal
-    and pairs lie in its grid; None otherwise."""
+    """The result record of job ``key`` in ``path`` if it fits :class:`JobRecord`, its goal
+    and pairs lie in its grid and its places (if any) are as many as the grid's shape says;
+    None otherwise."""
     job = read_record(_JOB, path, key)
     if job is None:
         return None
     nx, ny = job["grid"]["shape"]
+    if "places" in job["grid"] and (ny != 1 or len(job["grid"]["places"]) != nx):
+        return None
     positions = [(job["goal_i"], job["goal_j"])]
     positions += [(row["current_i"], row["current_j"]) for row in job["rows"]]
     return job if all(i < nx and j < ny for i, j in positions) else None

@@ -69,6 +69,7 @@ def load_pairs(run_dir: Path) -> PairTable:
     except (OSError, ValueError) as error:
         raise DataError(f"{index_path}: corrupt ({error})") from None
     frames, missing = [], []
+    grids: dict[str, str] = {}
     for entry in index:
         record = read_result(Path(run_dir) / "jobs" / f"{entry['key']}.json", entry["key"])
         if record is None:
@@ -82,7 +83,8 @@ def load_pairs(run_dir: Path) -> PairTable:
             frame.insert(0, column, record[column])
         for name, value in sorted(record["params"].items()):
             frame[f"param.{name}"] = json.dumps(value) if isinstance(value, list | dict) else value
-        frame["grid"] = json.dumps(record["grid"])
+        grid = json.dumps(record["grid"])  # one object per grid: posed places list every pose
+        frame["grid"] = grids.setdefault(grid, grid)
         frame["goal_heading"] = float(record["goal_heading"])
         frame["gives_direction"] = bool(record["gives_direction"])
         frames.append(frame)

@@ -25,7 +25,7 @@ from homebench.data.manifest import KINDS, Manifest
 from homebench.data.naming import database_label
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError, DataError
-from homebench.geometry import Grid, PanoramaGeometry
+from homebench.geometry import Grid, PanoramaGeometry, Places
 from homebench.hashing import stable_hash
 from homebench.imaging.projection import unfold
 from homebench.imaging.rotation import rotate_view
@@ -43,7 +43,9 @@ class Source:
 
     ``locator`` is what :func:`homebench.data.catalog.resolve` takes (a known name, a manifest
     file or a database folder), ``path`` the folder of a real set's images, if given, and
-    ``overrides`` what the config states of a Brains on Board folder's camera.
+    ``overrides`` what the config states of a Brains on Board folder's camera. ``poses`` is a
+    hash of the positions and headings of posed places (:class:`~homebench.geometry.Places`),
+    which their listing holds, not their images: part of their jobs' keys ("" for a grid).
     """
 
     alias: str
@@ -56,6 +58,7 @@ class Source:
     seed: int | None = None  # the world's seed for generated sets
     style: str | None = None  # the world's style for generated sets
     overrides: BobOverrides | None = None
+    poses: str = ""
 
     @property
     def columns(self) -> int:
@@ -121,6 +124,7 @@ def _prepare(
         seed=generator.spec.seed if generator is not None else None,
         style=generator.spec.style if generator is not None else None,
         overrides=ref.overrides,
+        poses=poses_key(database),
     )
 
 
@@ -131,6 +135,15 @@ def real_identity(database: GridDatabase) -> str:
     recomputes what was computed with the old one."""
     manifest = database.manifest.model_dump(mode="json", exclude={"name", "description"})
     return stable_hash([str(database.root.resolve()), manifest], 12)
+
+
+def poses_key(database: GridDatabase) -> str:
+    """Hash of the positions (metres) and headings (radians) of a database of posed places;
+    "" for a grid (whose job keys stay those of earlier versions)."""
+    grid = database.grid
+    if not isinstance(grid, Places):
+        return ""
+    return stable_hash([grid.xy, [database.heading(i, j) for i, j in grid.indices()]], 16)
 
 
 def content_key(database: GridDatabase, kinds: tuple[ImageKind, ...]) -> str:

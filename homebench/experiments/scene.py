@@ -30,7 +30,14 @@ from homebench.data.posed import PosedDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
 from homebench.evaluation.sources import database_view, unfolded_view
-from homebench.geometry import Grid, PanoramaGeometry, Pose, wrap_angle
+from homebench.geometry import (
+    Grid,
+    PanoramaGeometry,
+    Places,
+    Pose,
+    nearest_distances,
+    wrap_angle,
+)
 from homebench.hashing import derived_seed
 from homebench.imaging.rotation import rotate_view
 from homebench.views import View
@@ -116,14 +123,15 @@ def posed_scene(posed: PosedDatabase, unfold_config: UnfoldConfig) -> Scene:
     unfold_geometry = None if posed.kind == "unfolded" else unfold_config.geometry()
     geometry = posed_view(posed, 0, unfold_geometry).geometry
     assert isinstance(geometry, PanoramaGeometry)
-    reach = sparsest_spacing(posed.xy)
+    places = Places.of(posed.xy)
+    reach = sparsest_spacing(places.points)
 
     def nearest(pose: Pose) -> int:
-        distances = np.hypot(*(posed.xy - pose.xy).T)  # (n,), metres
-        k = int(np.argmin(distances))
-        if not distances[k] <= reach + 1e-9:
+        k = int(places.nearest_index(pose.xy)[0])
+        distance = math.dist(places.xy[k], pose.xy)
+        if not distance <= reach + 1e-9:
             raise PoseError(
-                f"pose ({pose.x:.2f}, {pose.y:.2f}) m is {distances[k]:.2f} m from the nearest "
+                f"pose ({pose.x:.2f}, {pose.y:.2f}) m is {distance:.2f} m from the nearest "
                 f"recorded image of database {posed.name!r}, farther than its sparsest spacing "
                 f"({reach:.2f} m)"
             )
@@ -137,21 +145,14 @@ def posed_scene(posed: PosedDatabase, unfold_config: UnfoldConfig) -> Scene:
     def check_pose(pose: Pose) -> None:
         nearest(pose)
 
-    origin = (float(posed.xy[0, 0]), float(posed.xy[0, 1]))
-    return Scene(geometry, render, check_pose, origin, recorded=posed)
+    return Scene(geometry, render, check_pose, places.origin, recorded=posed)
 
 
 def sparsest_spacing(xy: NDArray[np.float64]) -> float:
-    """The largest distance (metres) from a pose of ``xy`` (n, 2) to its nearest other pose;
-    0 for fewer than two poses. Rows at a time, so memory stays O(n)."""
-    if len(xy) < 2:
-        return 0.0
-    largest = 0.0
-    for start in range(0, len(xy), 256):
-        block = np.hypot(*(xy[start : start + 256, None, :] - xy[None, :, :]).transpose(2, 0, 1))
-        block[np.arange(len(block)), np.arange(start, start + len(block))] = np.inf
-        largest = max(largest, float(block.min(axis=1).max()))
-    return largest
+    """The largest distance (metres) from a pose of ``xy`` (n, 2) to its nearest other pose
+    (:func:`~homebench.geometry.nearest_distances`); 0 for fewer than two distinct poses."""
+    nearest = nearest_distances(xy)
+    return float(nearest.max()) if nearest.size else 0.0
 
 
 def posed_view(posed: PosedDatabase, k: int, unfold_geometry: PanoramaGeometry | None) -> View:

@@ -1,5 +1,6 @@
 """A contact sheet of a grid database: every position's panorama laid out as on the floor, one
-position large with the manifest's conventions marked on it.
+position large with the manifest's conventions marked on it; of posed images (a route, any
+poses), a map of the poses beside one image large.
 
 The marks come from the manifest's camera model through :mod:`homebench.geometry`, so a user
 can check a manifest they wrote: on the unfolded panorama, a vertical line at azimuth 0 and
@@ -11,13 +12,16 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.artist import Artist  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.gridspec import GridSpec  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
@@ -127,19 +131,10 @@ def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, i
     ``sample`` large (its raw image if the set has raw images, its unfolded panorama) with the
     conventions marked, and the conventions as text. Returns ``path``."""
     nx, ny = database.grid.shape
-    si, sj = sample
-    pano = _panorama(database, si, sj)
-    assert isinstance(pano.geometry, PanoramaGeometry)
-    heights = {"unfolded": PANEL_WIDTH * pano.image.shape[0] / pano.image.shape[1]}
-    if "raw" in database.kinds:
-        height, width = database.manifest.section("raw").size[::-1]
-        heights = {"raw": min(RAW_HEIGHT, PANEL_WIDTH * height / width), **heights}
-    heights["conventions"] = TEXT_HEIGHT
+    heights = _panel_heights(database, sample)
     grid_height = ny * GRID_WIDTH / nx * heights["unfolded"] / PANEL_WIDTH * 1.2
-    panels_height = sum(heights.values()) * 1.3
-    fig = plt.figure(figsize=(SHEET_WIDTH, max(grid_height, panels_height) + 1.6), dpi=110)
-    outer = GridSpec(1, 2, width_ratios=[1.25, 1], figure=fig, wspace=0.12, top=0.9, bottom=0.06)
-    cells = outer[0].subgridspec(ny, nx, wspace=0.04, hspace=0.12)
+    fig, left, right = _sheet(heights, grid_height)
+    cells = left.subgridspec(ny, nx, wspace=0.04, hspace=0.12)
     for i in range(nx):
         for j in range(ny):
             ax = fig.add_subplot(cells[ny - 1 - j, i])
@@ -150,7 +145,75 @@ def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, i
                 ax.set_xlabel(str(i), fontsize=6, labelpad=1)
             if i == 0:
                 ax.set_ylabel(str(j), fontsize=6, rotation=0, labelpad=6, va="center")
-    right = outer[1].subgridspec(len(heights), 1, height_ratios=list(heights.values()), hspace=0.3)
+    _draw_sample(fig, right, database, sample, heights)
+    spacing_cm = round(database.grid.spacing * 100)
+    title = f"{database.name}: {nx} x {ny} grid, {spacing_cm} cm apart (x to the right, y up)"
+    return _save(fig, title, path)
+
+
+#: Pose labels on a pose sheet, at most (every k-th image is labelled).
+POSE_LABELS = 20
+
+
+def write_pose_sheet(database: GridDatabase, path: Path, sample: int, layout: str) -> Path:
+    """Write a PNG of posed images (``database``: posed places, image k at (k, 0)): a map of
+    the poses (x to the right, y up; an arrow along each image's heading, some images' index)
+    and, beside it, image ``sample`` large with the conventions marked, as on a grid's contact
+    sheet; ``layout`` says what the poses are, in words. Returns ``path``."""
+    heights = _panel_heights(database, (sample, 0))
+    fig, left, right = _sheet(heights, GRID_WIDTH)
+    ax = fig.add_subplot(left)
+    grid = database.grid
+    n = grid.shape[0]
+    xy = grid.position(np.arange(n), 0)  # (n, 2) metres
+    headings = np.array([database.heading(k, 0) for k in range(n)])  # (n,) radians
+    length = 0.6 * grid.spacing
+    ax.plot(xy[:, 0], xy[:, 1], color="#bbbbbb", lw=0.6, zorder=1)
+    u, v = length * np.cos(headings), length * np.sin(headings)
+    ax.quiver(*xy.T, u, v, angles="xy", scale_units="xy", scale=1, width=0.004, color="#404040")
+    ax.scatter(xy[sample, 0], xy[sample, 1], s=40, color=AZIMUTH_0_COLOUR, zorder=3)
+    for k in range(0, n, max(1, math.ceil(n / POSE_LABELS))):
+        ax.annotate(str(k), xy[k], fontsize=7, xytext=(3, 3), textcoords="offset points")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("poses: image k at place [k, 0], arrows along the headings", fontsize=9)
+    _draw_sample(fig, right, database, (sample, 0), heights)
+    return _save(fig, f"{database.name}: {layout} (x to the right, y up)", path)
+
+
+def _panel_heights(database: GridDatabase, sample: tuple[int, int]) -> dict[str, float]:
+    """Heights (inches) of the panels beside the layout: raw image (if any), panorama, text."""
+    pano = _panorama(database, *sample)
+    heights = {"unfolded": PANEL_WIDTH * pano.image.shape[0] / pano.image.shape[1]}
+    if "raw" in database.kinds:
+        height, width = database.manifest.section("raw").size[::-1]
+        heights = {"raw": min(RAW_HEIGHT, PANEL_WIDTH * height / width), **heights}
+    heights["conventions"] = TEXT_HEIGHT
+    return heights
+
+
+def _sheet(heights: dict[str, float], left_height: float) -> tuple[Figure, Any, Any]:
+    """A sheet's figure and its two cells: the layout's (left), the sample's (right)."""
+    panels_height = sum(heights.values()) * 1.3
+    fig = plt.figure(figsize=(SHEET_WIDTH, max(left_height, panels_height) + 1.6), dpi=110)
+    outer = GridSpec(1, 2, width_ratios=[1.25, 1], figure=fig, wspace=0.12, top=0.9, bottom=0.06)
+    return fig, outer[0], outer[1]
+
+
+def _draw_sample(
+    fig: Figure,
+    cell: Any,
+    database: GridDatabase,
+    sample: tuple[int, int],
+    heights: dict[str, float],
+) -> None:
+    """Position ``sample`` large in ``cell``: its raw image (if any) and panorama with the
+    conventions marked, and the conventions as text."""
+    si, sj = sample
+    pano = _panorama(database, si, sj)
+    assert isinstance(pano.geometry, PanoramaGeometry)
+    right = cell.subgridspec(len(heights), 1, height_ratios=list(heights.values()), hspace=0.3)
     axes = {panel: fig.add_subplot(right[k]) for k, panel in enumerate(heights)}
     if "raw" in axes:
         raw = database.view(si, sj, "raw")
@@ -170,11 +233,11 @@ def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, i
     axes["conventions"].text(
         0, 1, conventions_text(database, si, sj), va="top", fontsize=8, family="monospace"
     )
-    spacing_cm = round(database.grid.spacing * 100)
-    fig.suptitle(
-        f"{database.name}: {nx} x {ny} grid, {spacing_cm} cm apart (x to the right, y up)",
-        fontsize=11,
-    )
+
+
+def _save(fig: Figure, title: str, path: Path) -> Path:
+    """Title ``fig``, write it to ``path`` as PNG (atomically) and close it; ``path``."""
+    fig.suptitle(title, fontsize=11)
     with atomic_write(Path(path)) as f:
         fig.savefig(f, format="png")
     plt.close(fig)

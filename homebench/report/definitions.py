@@ -48,6 +48,9 @@ METRICS = {
         "RR of a goal = share of the starts that reach the goal, the share of start positions "
         "from which following the home vectors leads home. A method's RR is the mean over the "
         "goals whose field covers the grid; a goal with a pair missing has no RR (n/a).",
+        "A database of posed images that is no grid (a route, any poses) has no RR or "
+        "catchment (n/a): the robot's steps need home directions on a grid around the goal; "
+        "its pairs have AE, AHC and the distance bands as a grid's.",
     ],
 }
 

@@ -17,7 +17,7 @@ from collections.abc import Iterator, Sequence
 import pandas as pd
 from matplotlib.figure import Figure
 
-from homebench.analysis.tables import gives_directions
+from homebench.analysis.tables import gives_directions, posed_rows
 from homebench.report.figure_data import (
     condition_goals,
     goal_panels,
@@ -91,12 +91,27 @@ def figures_note(run: RunData, max_goals: int | None) -> str:
     ahc = ahc_header("AHC", run.metrics.ahc)
     body = f"{heat}{ahc} against distance and RR per goal of every condition; time per call"
     per_goal = f"home-vector fields and AE maps of {goals} per condition"
+    posed = _posed_note(run)
+    if posed and posed_rows(run.tables.pairs).all():  # no grid: no per-goal figures
+        return f"{body}{posed}"
     if columns > MAX_DETAILED_CONDITIONS:
         return (
             f"{body}; the {per_goal} are in the figures folder only ({columns} conditions, "
-            f"more than {MAX_DETAILED_CONDITIONS})"
+            f"more than {MAX_DETAILED_CONDITIONS}){posed}"
         )
-    return f"{body}; appendix: {per_goal}"
+    return f"{body}; appendix: {per_goal}{posed}"
+
+
+def _posed_note(run: RunData) -> str:
+    """The title page's words on the conditions over posed images (no grid), or ""."""
+    pairs = run.tables.pairs
+    posed = sorted(set(pairs.loc[posed_rows(pairs), "condition"]))
+    if not posed:
+        return ""
+    return (
+        f". Posed images, not a grid ({', '.join(posed)}): AE, AHC and distance bands only; "
+        "RR, catchment, home-vector fields and AE maps are n/a (they need a grid)"
+    )
 
 
 def _per_goal_section(run: RunData, condition: str) -> str:
@@ -118,6 +133,7 @@ def _goal_figures(
     Figure 7) and AE maps (Figure 8) of ``max_goals`` goals (None: all), a few a figure."""
     where = run.condition_title(condition)
     pairs = run.tables.pairs[run.tables.pairs["condition"] == condition]
+    pairs = pairs[~posed_rows(pairs)]  # posed images: no grid to draw a field or map on
     directed = gives_directions(pairs)
     undirected = [m for m in styles if m in set(pairs.loc[~directed, "method"])]
     pairs = pairs[directed]
@@ -206,7 +222,8 @@ def _metric_figures(
         caption = (
             f"Return ratio (RR) per goal{panels}. Right of the dotted line: each method's mean "
             "RR over the goals with its 95 % goal-bootstrap CI; n/a: the field does not cover "
-            "the grid, or the method gives no home direction."
+            "the grid (or the images are posed, not on a grid), or the method gives no home "
+            "direction."
         )
         yield f"rr_{k + 1}", caption, rr_figure(chunk, styles)
 

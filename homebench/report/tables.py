@@ -329,7 +329,7 @@ MEANINGS = {
     "rotation_flip_share": f"rotation estimates off by more than {FLIP_DEG:g} deg",
     "ahc_missing90": "the same with a missing estimate counted as 90 deg, so that a method "
     "gains nothing by abstaining",
-    "rr": "over the goals whose home field covers the grid",
+    "rr": "over the goals whose home field covers the grid (n/a on posed images, no grid)",
 }
 
 
