@@ -239,17 +239,23 @@ class Places(Grid):
         return 2.0 * float(np.sum(np.ptp(self.points, axis=0)))
 
 
-def nearest_spacing(points: FloatArray) -> float:
-    """Median distance (metres) from each of ``points`` (n, 2) to its nearest other point,
-    points with another at the same place left out; 1.0 when none is left (one point, or all
-    at one place, or too far apart to measure). O(n log n) by a k-d tree."""
+def nearest_distances(points: FloatArray) -> FloatArray:
+    """Distance (metres) from each of ``points`` (n, 2) to its nearest other point, shape (n,);
+    those of points with another at the same place, or too far apart for floats, left out.
+    O(n log n) by a k-d tree; empty for fewer than two points."""
     if len(points) < 2:
-        return 1.0
+        return np.empty(0)
     from scipy.spatial import cKDTree  # imported where needed: most runs need none
 
     distances, _ = cKDTree(points).query(points, k=2)
     nearest = distances[:, 1]
-    nearest = nearest[(nearest > 0) & np.isfinite(nearest)]  # beyond floats: left out
+    return nearest[(nearest > 0) & np.isfinite(nearest)]
+
+
+def nearest_spacing(points: FloatArray) -> float:
+    """Median of :func:`nearest_distances` of ``points`` (n, 2), metres; 1.0 when none is
+    left (one point, or all at one place, or too far apart to measure)."""
+    nearest = nearest_distances(points)
     spacing = float(np.median(nearest)) if nearest.size else 1.0
     return spacing if math.isfinite(spacing) and spacing > 0 else 1.0
 

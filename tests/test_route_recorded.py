@@ -62,6 +62,11 @@ def test_the_scene_shows_the_nearest_recorded_image_turned_to_the_pose(route: Pa
     assert sparsest_spacing(scene.recorded.xy) == pytest.approx(STEP_M, abs=1e-4)
     with pytest.raises(PoseError, match="farther than its sparsest spacing"):
         scene.check_pose(Pose(0.3, 0.3, 0.0))  # 0.58 m from the arc
+    wider = posed_scene(open_bob(route), UnfoldConfig(), reach_m=0.6)  # recorded_reach_m
+    inside = Pose(0.5 * _pose(4).x, 0.5 * _pose(4).y, _pose(4).heading)  # 0.5 m in from image 4
+    assert np.array_equal(wider.render(inside, 0), render(_pose(4)).image)
+    with pytest.raises(PoseError, match="recorded_reach_m"):
+        wider.check_pose(Pose(-0.5, -0.5, 0.0))
 
 
 def test_recorded_waypoints_follow_the_recording_in_metres(route: Path) -> None:

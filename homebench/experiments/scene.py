@@ -117,14 +117,18 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> Scene:
     return Scene(geometry, render, check_pose, grid.origin, grid)
 
 
-def posed_scene(posed: PosedDatabase, unfold_config: UnfoldConfig) -> Scene:
+def posed_scene(
+    posed: PosedDatabase, unfold_config: UnfoldConfig, reach_m: float | None = None
+) -> Scene:
     """The recorded image nearest to the pose, turned to it (see the module docstring); raw
-    images are unfolded with ``unfold_config``."""
+    images are unfolded with ``unfold_config``. ``reach_m``: how far from every recorded pose
+    the scene still shows the nearest image (default: the recording's sparsest spacing)."""
     unfold_geometry = None if posed.kind == "unfolded" else unfold_config.geometry()
     geometry = posed_view(posed, 0, unfold_geometry).geometry
     assert isinstance(geometry, PanoramaGeometry)
     places = Places.of(posed.xy)
-    reach = sparsest_spacing(places.points)
+    reach = sparsest_spacing(places.points) if reach_m is None else reach_m
+    what = "its sparsest spacing" if reach_m is None else "the config's recorded_reach_m"
 
     def nearest(pose: Pose) -> int:
         k = int(places.nearest_index(pose.xy)[0])
@@ -132,8 +136,7 @@ def posed_scene(posed: PosedDatabase, unfold_config: UnfoldConfig) -> Scene:
         if not distance <= reach + 1e-9:
             raise PoseError(
                 f"pose ({pose.x:.2f}, {pose.y:.2f}) m is {distance:.2f} m from the nearest "
-                f"recorded image of database {posed.name!r}, farther than its sparsest spacing "
-                f"({reach:.2f} m)"
+                f"recorded image of database {posed.name!r}, farther than {what} ({reach:.2f} m)"
             )
         return k
 
@@ -171,19 +174,23 @@ def turned(view: View, turn: float) -> NDArray[np.uint8]:
 
 
 def open_scene(
-    world: WorldSpec, database: str | None, database_path: Path | None, unfold: UnfoldConfig
+    world: WorldSpec,
+    database: str | None,
+    database_path: Path | None,
+    unfold: UnfoldConfig,
+    reach_m: float | None = None,
 ) -> Scene:
     """The scene of an experiment config: its ``database`` if it names one (a known name,
     manifest path or Brains on Board folder; raw images unfolded with ``unfold``): a grid's
-    nearest images, or a recording's (a database of posed images that is no grid); else its
-    generated ``world``."""
+    nearest images, or a recording's (a database of posed images that is no grid, shown within
+    ``reach_m``: see :func:`posed_scene`); else its generated ``world``."""
     if database is None:
         return world_scene(world)
     folder = catalog.bob_folder(database, database_path)
     if folder is not None:
         posed = _posed(folder)
         if posed.grid is None:
-            return posed_scene(posed, unfold)
+            return posed_scene(posed, unfold, reach_m)
     return grid_scene(database, database_path, unfold)
 
 

@@ -7,7 +7,9 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
     name: klt-route
     output: runs/klt_route
     world: {seed: 0, variant: original}          # a generated world (WorldSpec), or
-    # database: synth-original                   # a grid database: nearest grid images
+    # database: synth-original                   # a grid database: nearest grid images, or
+    # database: ~/data/ant_route1                # a recorded route (waypoints: recorded)
+    # recorded_reach_m: 0.3                      #   seen this far from it (default: spacing)
     routes:
       - name: tour
         waypoints: [[1.7, 1.8], [1.7, 3.8], [4.2, 3.8]]   # metres, world frame; home first
@@ -204,9 +206,13 @@ class RouteConfig(_Strict):
     seed: int = Field(0, ge=0)
     jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
     world: WorldSpec = WorldSpec()
-    # Or a grid database (known name or manifest path): the robot sees the nearest grid image.
+    # Or a database (known name, manifest path or Brains on Board folder): the robot sees the
+    # nearest grid image, or the nearest recorded image of a recorded route.
     database: str | None = None
     database_path: Path | None = None  # folder of a real set's copy
+    # A recorded route's reach (metres): how far from every recorded pose the robot still sees
+    # the nearest recorded image; None: the recording's sparsest spacing.
+    recorded_reach_m: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
     unfold: UnfoldConfig = UnfoldConfig()  # panoramas made from a raw-only database
     routes: list[RouteSpec] = Field(min_length=1)
     motion: MotionLimits = MotionLimits()
@@ -226,6 +232,8 @@ class RouteConfig(_Strict):
             raise ValueError("give either 'world' or 'database', not both")
         if self.database_path is not None and self.database is None:
             raise ValueError("'database_path' needs 'database'")
+        if self.recorded_reach_m is not None and self.database is None:
+            raise ValueError("'recorded_reach_m' is for a recorded route: it needs 'database'")
         recorded = [k for k, route in enumerate(self.routes) if route.is_recorded]
         if recorded and self.database is None:
             raise ValueError(
@@ -264,7 +272,7 @@ class RouteConfig(_Strict):
         for kind in ("pairwise", "familiarity"):
             if kind not in kinds:
                 data.pop(kind, None)
-        for name in ("methods", "success_radius_m"):
+        for name in ("methods", "success_radius_m", "recorded_reach_m"):
             if name not in self.model_fields_set:
                 data.pop(name, None)
         if self.database is not None:  # no world then: the resolved config reads back
@@ -291,7 +299,8 @@ class RouteConfig(_Strict):
     def scene_key(self) -> dict[str, Any]:
         """What identifies the scene in trial keys: the database or the world spec's hash."""
         if self.database is not None:
-            return {"database": self.database, "path": str(self.database_path)}
+            reach = {} if self.recorded_reach_m is None else {"reach": self.recorded_reach_m}
+            return {"database": self.database, "path": str(self.database_path), **reach}
         return {"world": self.world.key()}
 
     def klt(self) -> KltTracker:

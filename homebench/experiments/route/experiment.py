@@ -601,5 +601,8 @@ def run_route_experiment(
 
 
 def route_scene(config: RouteConfig) -> Scene:
-    """The scene of a route config: its grid ``database`` if it names one, else its world."""
-    return open_scene(config.world, config.database, config.database_path, config.unfold)
+    """The scene of a route config: its ``database`` if it names one (a grid, or a recorded
+    route shown within ``recorded_reach_m``), else its world."""
+    return open_scene(
+        config.world, config.database, config.database_path, config.unfold, config.recorded_reach_m
+    )
