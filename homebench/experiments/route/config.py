@@ -80,6 +80,8 @@ from homebench.yamlio import load_model
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).
 KLT_SECTOR = "klt-sector"
+#: The waypoints of a route that follows its database's recorded poses.
+RECORDED = "recorded"
 #: Recorded poses closer than this (metres) to the last one a replayed route keeps are dropped
 #: (a robot standing still while it records).
 MIN_STEP_M = 1e-3
@@ -108,9 +110,8 @@ class RouteSpec(_Strict):
     """
 
     name: str
-    waypoints: (
-        Annotated[list[tuple[FiniteFloat, FiniteFloat]], Field(min_length=2)] | Literal["recorded"]
-    )
+    # None: 'recorded' as the config gives it (a plain list type keeps the errors of a list's)
+    waypoints: Annotated[list[tuple[FiniteFloat, FiniteFloat]], Field(min_length=2)] | None
     frame: Literal["world", "grid"] = "world"
     heading_deg: FiniteFloat | None = None
     lengths: list[Annotated[float, Field(gt=0)]] | None = None
@@ -127,7 +128,18 @@ class RouteSpec(_Strict):
     @property
     def is_recorded(self) -> bool:
         """Whether the route follows its database's recorded poses (``waypoints: recorded``)."""
-        return self.waypoints == "recorded"
+        return self.waypoints is None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _recorded(cls, data: Any) -> Any:
+        """``waypoints: recorded`` read as None (a null is no route)."""
+        if isinstance(data, dict) and "waypoints" in data:
+            if data["waypoints"] is None:
+                raise ValueError("waypoints: give a list of [x, y] points or 'recorded'")
+            if data["waypoints"] == RECORDED:
+                return {**data, "waypoints": None}
+        return data
 
     @property
     def length(self) -> float:
@@ -138,10 +150,12 @@ class RouteSpec(_Strict):
     @model_serializer(mode="wrap")
     def _omit_displacements(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
         """The fields, without ``displacements_m`` when not given (a resolved config, and its
-        hash, as before routes had displacements)."""
+        hash, as before routes had displacements); recorded waypoints as ``recorded``."""
         data = handler(self)
         if self.displacements_m is None:
             data.pop("displacements_m", None)
+        if self.is_recorded:
+            data["waypoints"] = RECORDED
         return data
 
     @model_validator(mode="after")
