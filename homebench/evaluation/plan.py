@@ -13,8 +13,8 @@ Code versions come from :mod:`~homebench.evaluation.code_version`, image content
 the jobs and features it touches. A home job's key also holds the content of every other view
 it reads (its ``context``): the grid neighbours of methods that sample around the current view
 (``uses_neighbours``), the route views of methods that track (``uses_route``), the unfolded
-views the visual compass compares and the headings the true compass turns by; on posed places
-(:class:`~homebench.geometry.Places`) the poses, which their listing holds, not the images. A
+views the visual compass compares and the headings the true compass turns by (a real set's
+poses and camera models are in its identity: :func:`~homebench.evaluation.sources.real_identity`). A
 method entry's ``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is part of
 its key; with a compass the current views are described inside the home job (turned back per
 pair), so describe jobs hold its goals only.
@@ -365,8 +365,6 @@ def make_plan(
             parts += [("compass", s.identity, *p, content(s, "unfolded", *p)) for s, p in read]
         if method.compass == "truth":
             parts += [("heading", s.identity, *p, open_source(s).heading(*p)) for s, p in read]
-        if current_src.poses or goal_src.poses:  # a corrected pose is another result
-            parts.append(("poses", current_src.poses, goal_src.poses))
         return stable_hash(parts) if parts else ""
 
     home: list[HomeJob] = []

@@ -43,9 +43,7 @@ class Source:
 
     ``locator`` is what :func:`homebench.data.catalog.resolve` takes (a known name, a manifest
     file or a database folder), ``path`` the folder of a real set's images, if given, and
-    ``overrides`` what the config states of a Brains on Board folder's camera. ``poses`` is a
-    hash of the positions and headings of posed places (:class:`~homebench.geometry.Places`),
-    which their listing holds, not their images: part of their jobs' keys ("" for a grid).
+    ``overrides`` what the config states of a Brains on Board folder's camera.
     """
 
     alias: str
@@ -58,7 +56,6 @@ class Source:
     seed: int | None = None  # the world's seed for generated sets
     style: str | None = None  # the world's style for generated sets
     overrides: BobOverrides | None = None
-    poses: str = ""
 
     @property
     def columns(self) -> int:
@@ -124,26 +121,18 @@ def _prepare(
         seed=generator.spec.seed if generator is not None else None,
         style=generator.spec.style if generator is not None else None,
         overrides=ref.overrides,
-        poses=poses_key(database),
     )
 
 
 def real_identity(database: GridDatabase) -> str:
     """12 hex digits naming a real set as a run reads it: its folder and what its manifest says
     of the images (grid, headings, camera models; a BoB folder's as its homebench.yaml and the
-    config's ``images:`` state them), so that correcting a heading or a camera model
-    recomputes what was computed with the old one."""
+    config's ``images:`` state them; posed places' positions), so that correcting a pose or a
+    camera model recomputes what was computed with the old one."""
     manifest = database.manifest.model_dump(mode="json", exclude={"name", "description"})
-    return stable_hash([str(database.root.resolve()), manifest], 12)
-
-
-def poses_key(database: GridDatabase) -> str:
-    """Hash of the positions (metres) and headings (radians) of a database of posed places;
-    "" for a grid (whose job keys stay those of earlier versions)."""
-    grid = database.grid
-    if not isinstance(grid, Places):
-        return ""
-    return stable_hash([grid.xy, [database.heading(i, j) for i, j in grid.indices()]], 16)
+    grid = database.grid  # posed places: their positions, which the manifest's grid lacks
+    places = grid.xy if isinstance(grid, Places) else ()
+    return stable_hash([str(database.root.resolve()), manifest, *places], 12)
 
 
 def content_key(database: GridDatabase, kinds: tuple[ImageKind, ...]) -> str:
