@@ -80,6 +80,7 @@ from homebench.imaging.horizon import band_elevations, horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
 from homebench.methods.min_warping_search import (
     CompiledSearch,
+    CostSearch,
     NumpySearch,
     SearchTemplate,
     kernels,
@@ -197,7 +198,7 @@ class MinWarping:
     distance: ColumnDistance = param(
         "nsad",
         "Column distance: ssd, sad, their zero-mean (z...), normalised (n...) or both (zn...) "
-        "variants (see the module docstring).",
+        "variants (see homebench.methods.min_warping).",
         reading="Möller et al. (2014) compare column distances for illumination tolerance; "
         "Möller's SIMD implementation defaults to NSAD on vertically edge-filtered columns, "
         "taken here as 'Möller's default' (homebench used ssd without the filter before)",
@@ -227,15 +228,15 @@ class MinWarping:
         check_fields(self)
         if self.n_columns < 4 or self.columns_per_step < 1 or self.n_rows < 1 + self.edge_filter:
             raise ConfigError(
-                "min-warping: need n_columns >= 4, columns_per_step >= 1 and n_rows >= 1 "
+                f"{self.name}: need n_columns >= 4, columns_per_step >= 1 and n_rows >= 1 "
                 "(>= 2 with edge_filter)"
             )
         if self.double_search and self.n_columns % 2:
-            raise ConfigError("min-warping: double_search needs an even n_columns")
+            raise ConfigError(f"{self.name}: double_search needs an even n_columns")
         if not -90.0 < self.band_bottom_deg < 0.0 < self.band_top_deg < 90.0:
-            raise ConfigError("min-warping: the band must contain the horizon (bottom < 0 < top)")
+            raise ConfigError(f"{self.name}: the band must contain the horizon (bottom < 0 < top)")
         if self.n_scales < 3 or self.n_scales % 2 == 0 or not self.max_scale > 1.0:
-            raise ConfigError("min-warping: n_scales must be odd >= 3 and max_scale > 1")
+            raise ConfigError(f"{self.name}: n_scales must be odd >= 3 and max_scale > 1")
 
     @property
     def band_columns(self) -> int:
@@ -300,7 +301,7 @@ class MinWarping:
         compiled.quantize(planes, float(top), out)
         return out
 
-    def searcher(self, stack: U8Array, engine: Engine) -> NumpySearch | CompiledSearch:
+    def searcher(self, stack: U8Array, engine: Engine) -> CostSearch:
         """Cost evaluation on ``stack`` by the compiled kernels or the numpy reference."""
         kind = CompiledSearch if engine == "numba" else NumpySearch
         return kind(stack, self.template, self.columns_per_step)
@@ -330,9 +331,7 @@ class MinWarping:
             psis = np.concatenate([psis, (psi - d_psi[pick] + np.arange(1 - step, step)) % columns])
         return best, alpha % columns, psi % columns, psis
 
-    def costs_at(
-        self, searcher: NumpySearch | CompiledSearch, alphas: IntArray, psis: IntArray
-    ) -> I64Array:
+    def costs_at(self, searcher: CostSearch, alphas: IntArray, psis: IntArray) -> I64Array:
         """Costs (m,) of (alpha, psi) pairs in band columns (both views with double_search)."""
         costs = searcher.at(alphas, psis, False)
         if self.double_search:
@@ -343,7 +342,7 @@ class MinWarping:
         """Home direction beta = alpha - psi + pi at the best (alpha, psi); ``engine``: the
         compiled kernels or the pure-numpy reference (same result)."""
         if current.shape != goal.shape:
-            raise ValueError("min-warping: features of different shapes")
+            raise ValueError(f"{self.name}: features of different shapes")
         if is_flat(current[0]) or is_flat(goal[0]):
             return HomingEstimate.none(n_landmarks=self.band_columns, reason="no texture")
         n = self.band_columns

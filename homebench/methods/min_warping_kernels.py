@@ -72,7 +72,7 @@ SIGNATURES = {
 
 
 @njit(cache=True, nogil=True)
-def _wrap(j: int, n: int) -> int:
+def wrap(j: int, n: int) -> int:
     """``j % n`` for 0 <= j < 2 n, without a division."""
     return j - n if j >= n else j
 
@@ -281,8 +281,8 @@ def coarse_costs(
             low, high = min(wrap_near, wrap_far), max(wrap_near, wrap_far)
             for s0, s1 in ((0, low), (low, high), (high, blocks)):
                 if s0 < s1:
-                    one = (near + _wrap(near_start + s0, blocks)) * blocks
-                    other = (far + _wrap(far_start + s0, blocks)) * blocks
+                    one = (near + wrap(near_start + s0, blocks)) * blocks
+                    other = (far + wrap(far_start + s0, blocks)) * blocks
                     size, at = (s1 - s0) * blocks, s0 * blocks
                     _fold(flat_best[at : at + size], rows[one : one + size],
                           rows[other : other + size], q == first)  # fmt: skip
@@ -291,7 +291,7 @@ def coarse_costs(
     out = np.empty((blocks, blocks), dtype=np.int64)
     for s in range(blocks):
         for a in range(blocks):
-            out[a, _wrap(a - s + blocks, blocks)] = cost[s, a] + cost[s, a + blocks]
+            out[a, wrap(a - s + blocks, blocks)] = cost[s, a] + cost[s, a + blocks]
     return out
 
 
@@ -331,11 +331,11 @@ def table_costs(
         for q in range(first, last):
             rows, shifted, offset = table[level[q]], shift[q], plane[q] * n
             for pair in range(m):
-                i = _wrap(x + alpha[pair], n)
-                j = _wrap(y[q] + turn[pair], n)
+                i = wrap(x + alpha[pair], n)
+                j = wrap(y[q] + turn[pair], n)
                 row, b = rank[i] + offset, block[i]
                 near = rows[row + position[j], b]
-                far = rows[row + position[_wrap(j + shifted, n)], b]
+                far = rows[row + position[wrap(j + shifted, n)], b]
                 near = near if near < far else far
                 low[pair] = near if near < low[pair] else low[pair]
         for pair in range(m):

@@ -19,9 +19,11 @@ from __future__ import annotations
 
 import itertools
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from types import ModuleType
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.lib.stride_tricks import as_strided
@@ -225,22 +227,42 @@ def kernels() -> ModuleType:
     return min_warping_kernels
 
 
-class NumpySearch:
-    """Costs by :func:`reference_costs` (the pure-numpy reading) on a stack (K, n, n)."""
+class CostSearch(Protocol):
+    """Costs of (alpha, psi) hypotheses on one pair's stack, of both readings (``swap``: the
+    swapped views'): what min-warping's double and fine search ask of a search."""
 
-    def __init__(self, stack: U8Array, template: SearchTemplate, step: int) -> None:
-        self.stack, self.template, self.step = stack, template, step
+    def coarse(self, swap: bool) -> I64Array:
+        """Cost of every (alpha, psi) step: (n_steps, n_steps), [alpha step, psi step]."""
+        ...
+
+    def at(self, alphas: IntArray, psis: IntArray, swap: bool) -> I64Array:
+        """Costs (m,) of (alpha, psi) pairs (m,) in band columns."""
+        ...
+
+
+#: A pure-numpy search: ``costs(stack, template, alphas, psis)``, (len(alphas), len(psis)).
+ReferenceCosts = Callable[[U8Array, Any, IntArray, IntArray], I64Array]
+
+
+class NumpySearch:
+    """Costs by a pure-numpy reading (``costs``; min-warping's :func:`reference_costs` by
+    default) with its ``template`` on a stack (K, n, n)."""
+
+    def __init__(
+        self, stack: U8Array, template: Any, step: int, costs: ReferenceCosts = reference_costs
+    ) -> None:
+        self.stack, self.template, self.step, self.costs = stack, template, step, costs
 
     def coarse(self, swap: bool) -> I64Array:
         """Cost of every (alpha, psi) step: (n_steps, n_steps), [alpha step, psi step]."""
         grid = self.step * np.arange(self.stack.shape[1] // self.step)
-        return reference_costs(self._source(swap), self.template, grid, grid)
+        return self.costs(self._source(swap), self.template, grid, grid)
 
     def at(self, alphas: IntArray, psis: IntArray, swap: bool) -> I64Array:
         """Costs (m,) of (alpha, psi) pairs (m,) in band columns."""
         n, source = self.stack.shape[1], self._source(swap)
         pairs = zip(alphas % n, psis % n, strict=True)
-        return np.array([reference_costs(source, self.template, [a], [p])[0, 0] for a, p in pairs])
+        return np.array([self.costs(source, self.template, [a], [p])[0, 0] for a, p in pairs])
 
     def _source(self, swap: bool) -> U8Array:
         return swapped(self.stack) if swap else self.stack

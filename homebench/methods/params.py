@@ -62,11 +62,16 @@ def param(default: Any, meaning: str, *, paper: str = "", reading: str = "") -> 
     )
 
 
-def same_as(owner: type, name: str) -> Any:
+def same_as(owner: type, name: str, scope: str = "") -> Any:
     """A field with the default and documentation of ``owner``'s field ``name`` (a method that
-    exposes another dataclass's parameters as its own)."""
+    exposes another dataclass's parameters as its own); ``scope``, when given, says where the
+    parameter applies, before its meaning (``"With scheme 'x' only."``)."""
     source = next(f for f in dataclasses.fields(owner) if f.name == name)
-    return dataclasses.field(default=source.default, metadata=source.metadata)
+    metadata = source.metadata
+    if scope:
+        info = metadata[_KEY]
+        metadata = {_KEY: dataclasses.replace(info, meaning=f"{scope} {info.meaning}")}
+    return dataclasses.field(default=source.default, metadata=metadata)
 
 
 def _type_text(hint: Any) -> str:
