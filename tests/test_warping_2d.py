@@ -201,7 +201,8 @@ def test_describe_stores_margins_for_shrinking_columns_within_the_panorama():
 def test_registered_with_the_defaults():
     method = registry.create("warping-2d")
     assert isinstance(method, Warping2D)
-    assert (method.n_columns, method.n_rows, method.n_rho, method.rho_max) == (96, 16, 20, 0.95)
+    assert (method.n_columns, method.n_rows, method.n_rho, method.rho_max) == (96, 16, 20, None)
+    assert method.rho[-1] == 0.95 and Warping2D(scheme="scale-planes").rho[-1] == 1.0
 
 
 @pytest.mark.parametrize(

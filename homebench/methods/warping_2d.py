@@ -37,9 +37,22 @@ path is tested against: both give the same float64 costs bit for bit.
 
 Readings (see the parameters): the band and its resolution are min-warping's (the same paper
 introduces both methods), alpha and psi in whole columns of the band; the rho grid is 1-D
-warping's (Franz et al. 1998, Table 1); the image distance is the sum of squared differences.
+warping's (Franz et al. 1998, Table 1: 20 steps up to 0.95); the image distance is the sum of
+squared differences.
 ``rho = 0`` carries no direction (every alpha gives the same warp): the estimate then has
 ``angle=None`` but keeps the rotation. A texture-less band gives :meth:`HomingEstimate.none`.
+
+Scheme (option ``scheme``, default ``"image"``, the reading above): ``"scale-planes"`` runs
+the same model the way Möller's SIMD code runs 2D-warping, on min-warping's scale-plane stack
+(:mod:`homebench.methods.warping_2d_planes`): each goal column costs the stack entry of its
+current column and vertical scale (both quantised), the column distance is min-warping's (NSAD
+of vertically edge-filtered columns by default), its double and fine search apply, and rho runs
+from 0 to 1 as in that code (``rho_max=None`` takes each scheme's grid). Min-warping's
+parameters for it are listed here as "Scheme 'scale-planes' only." Measured against that code
+(``benchmarks/bench_warping_2d.py --peer``, a generated 10 x 17 grid of 288 x 72 panoramas): the
+same AE, 5.31 deg against its 5.34 over 15 goals (difference -0.03 deg, 95 % goal-bootstrap
+interval [-0.38, 0.30]); on goal (5, 9) 1.23 deg against 1.23, where the image scheme has 2.70,
+at 1.2x its CPU per pair.
 
 Paper look-up (issue 14): Möller's (2009) rho grid is not in reach here: the searched public
 pages hold no text of the paper (searches for its title and for the warping parameter grid
@@ -50,7 +63,7 @@ checked against the paper.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from types import ModuleType
 from typing import ClassVar, Literal
@@ -62,11 +75,12 @@ from homebench.errors import ConfigError
 from homebench.geometry import TWO_PI, PanoramaGeometry
 from homebench.imaging.horizon import horizon_band
 from homebench.methods.base import HomingEstimate, ImageKind, View
-from homebench.methods.min_warping import MinWarping
+from homebench.methods.min_warping import ColumnDistance, MinWarping
 from homebench.methods.param_types import check_fields
 from homebench.methods.params import documented, param, same_as
 from homebench.methods.registry import register
 from homebench.methods.warping import best_hypothesis, is_flat, rho_grid, warp_tables
+from homebench.methods.warping_2d_planes import ScalePlaneWarping2D
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -75,6 +89,26 @@ Engine = Literal["numba", "numpy"]
 
 #: Goals whose :class:`GoalPart` one method instance keeps (24 MB each at the defaults).
 GOAL_CACHE_SIZE = 2
+
+Scheme = Literal["image", "scale-planes"]
+#: Min-warping's parameters that warping-2d takes for its scheme "scale-planes" (only).
+SCALE_PLANE_PARAMETERS = (
+    "columns_per_step",
+    "n_scales",
+    "max_scale",
+    "distance",
+    "edge_filter",
+    "double_search",
+    "fine_search",
+)
+_PLANES_ONLY = "Scheme 'scale-planes' only."
+#: Each scheme's rho_max when it is None (see the parameter).
+SCHEME_RHO: dict[str, float] = {"image": 0.95, "scale-planes": 1.0}
+
+
+def _min_warping(name: str) -> object:
+    """Min-warping's default of its parameter ``name``."""
+    return next(f.default for f in fields(MinWarping) if f.name == name)
 
 
 def landmark_distance(rho: FloatArray, offset: FloatArray) -> FloatArray:
@@ -154,13 +188,15 @@ class Warping2D:
     image_kind: ClassVar[ImageKind] = "unfolded"
     preload_modules: ClassVar[tuple[str, ...]] = (
         "homebench.methods.warping_2d_kernels",
+        "homebench.methods.warping_2d_plane_kernels",
         "homebench.methods.jit_setup",
     )
 
     n_columns: int = same_as(MinWarping, "n_columns")
     n_rows: int = param(
         16,
-        "Rows of the band compared (margin rows for the vertical scaling come on top).",
+        "Rows of the band compared (scheme image: margin rows for the vertical scaling come on "
+        "top).",
         reading="the paper compares the unfolded image's rows around the horizon at its own "
         "resolution; min-warping's band (the same paper), 16 rows of 1.9 deg",
     )
@@ -172,13 +208,39 @@ class Warping2D:
         reading="the paper's rho grid was out of reach; 1-D warping's (Franz et al. 1998, Table "
         "1: 20 steps up to 0.95), which 2D-warping extends",
     )
-    rho_max: float = param(0.95, "Largest rho searched (as n_rho).")
+    rho_max: float | None = param(
+        None,
+        "Largest rho searched (as n_rho); None: the scheme's, 0.95 with 'image' (which needs "
+        "rho_max < 1), 1.0 with 'scale-planes' (which allows rho_max <= 1).",
+        reading="the image scheme's is 1-D warping's (Franz et al. 1998, Table 1: 20 steps up "
+        "to 0.95); the scale-plane scheme's is Möller's SIMD code's (20 steps from 0 to 1)",
+    )
+    scheme: Scheme = param(
+        "image",
+        "How a hypothesis is compared with the current view: 'image' warps the goal band "
+        "(columns moved and scaled vertically) and compares it pixel by pixel; 'scale-planes' "
+        "looks each goal column up in min-warping's scale-plane stack (current column and "
+        "vertical scale quantised, min-warping's column distance, double and fine search), as "
+        "Möller's SIMD code runs 2D-warping (homebench.methods.warping_2d_planes).",
+        paper="Möller (2009) warps the two-dimensional image itself and compares it with the "
+        "current image; the scale-plane scheme is his later implementation's (Möller, "
+        "Krzykawski & Gerstmayr 2010), offered to compare with that code",
+    )
+    columns_per_step: int = same_as(MinWarping, "columns_per_step", _PLANES_ONLY)
+    n_scales: int = same_as(MinWarping, "n_scales", _PLANES_ONLY)
+    max_scale: float = same_as(MinWarping, "max_scale", _PLANES_ONLY)
+    distance: ColumnDistance = same_as(MinWarping, "distance", _PLANES_ONLY)
+    edge_filter: bool = same_as(MinWarping, "edge_filter", _PLANES_ONLY)
+    double_search: bool = same_as(MinWarping, "double_search", _PLANES_ONLY)
+    fine_search: bool = same_as(MinWarping, "fine_search", _PLANES_ONLY)
 
     # The goal's part of the search, by the goal features' bytes: the currents of one goal
     # share it. Not a parameter.
     _goals: dict[bytes, GoalPart] = field(
         default_factory=dict, init=False, repr=False, compare=False
     )
+    # The scale-plane scheme's search (scheme "scale-planes"), made from these parameters.
+    _planes: ScalePlaneWarping2D | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -186,13 +248,35 @@ class Warping2D:
             raise ConfigError("warping-2d: need n_columns >= 4 and n_rows >= 1")
         if not -90.0 < self.band_bottom_deg < 0.0 < self.band_top_deg < 90.0:
             raise ConfigError("warping-2d: the band must contain the horizon (bottom < 0 < top)")
-        if self.n_rho < 2 or not 0.0 < self.rho_max < 1.0:
-            raise ConfigError("warping-2d: need n_rho >= 2 and 0 < rho_max < 1")
+        rho = self.largest_rho
+        below_one = rho <= 1.0 if self.scheme == "scale-planes" else rho < 1.0
+        if self.n_rho < 2 or not (rho > 0.0 and below_one):
+            raise ConfigError(
+                "warping-2d: need n_rho >= 2 and 0 < rho_max < 1 (<= 1 with scheme 'scale-planes')"
+            )
+        if self.scheme == "image":
+            changed = [n for n in SCALE_PLANE_PARAMETERS if getattr(self, n) != _min_warping(n)]
+            if changed:
+                raise ConfigError(
+                    f"warping-2d: {', '.join(changed)}: only with scheme 'scale-planes'"
+                )
+            return
+        shared = ("n_columns", "n_rows", "band_bottom_deg", "band_top_deg")
+        planes = ScalePlaneWarping2D(
+            **{name: getattr(self, name) for name in shared + SCALE_PLANE_PARAMETERS},
+            rho=self.rho,
+        )
+        object.__setattr__(self, "_planes", planes)
+
+    @property
+    def largest_rho(self) -> float:
+        """rho_max, or the scheme's when it is None."""
+        return SCHEME_RHO[self.scheme] if self.rho_max is None else self.rho_max
 
     @property
     def rho(self) -> tuple[float, ...]:
-        """Searched rho values: 0 .. rho_max in n_rho steps."""
-        return rho_grid(self.rho_max, self.n_rho)
+        """Searched rho values: 0 .. largest_rho in n_rho steps."""
+        return rho_grid(self.largest_rho, self.n_rho)
 
     @property
     def row_step(self) -> float:
@@ -209,7 +293,7 @@ class Warping2D:
         """Rows stored above and below the band: enough for the smallest scale 1 / (1 +
         rho_max), as many as the panorama holds."""
         top, bottom = math.radians(self.band_top_deg), math.radians(self.band_bottom_deg)
-        reach = max(math.tan(top), -math.tan(bottom)) * (1.0 + self.rho_max)
+        reach = max(math.tan(top), -math.tan(bottom)) * (1.0 + self.largest_rho)
         wanted = math.ceil((math.atan(reach) - min(top, -bottom)) / self.row_step - 1e-9)
         room = min(geometry.elevation_top - top, bottom - geometry.elevation_bottom)
         return max(0, min(wanted, math.floor(room / self.row_step + 1e-9)))
@@ -219,6 +303,8 @@ class Warping2D:
         columns, top row first."""
         if not isinstance(view.geometry, PanoramaGeometry):
             raise ConfigError("warping-2d: needs an unfolded panorama, got a raw image")
+        if self._planes is not None:
+            return self._planes.describe(view)
         m = self.margin(view.geometry)
         top = math.radians(self.band_top_deg) + m * self.row_step
         bottom = math.radians(self.band_bottom_deg) - m * self.row_step
@@ -290,6 +376,8 @@ class Warping2D:
     ) -> HomingEstimate:
         """Home direction beta = alpha - psi + pi at the best (rho, alpha, psi); ``engine``:
         the compiled kernels or the pure-numpy reference (same result)."""
+        if self._planes is not None:
+            return self._planes.home(current, goal, engine)
         if current.shape != goal.shape or current.shape[1:] != (self.n_columns,):
             raise ValueError(f"warping-2d: features must be bands with {self.n_columns} columns")
         if is_flat(current) or is_flat(goal):
