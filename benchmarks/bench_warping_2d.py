@@ -9,14 +9,20 @@ start of each round; ratios CPU over CPU): the process CPU and wall time per pai
   once per goal) is paid once over the pairs; in this plain Python process and in an isolated
   job worker;
 - the pairs after a job's first (the goal's part kept), in this process;
+- the scale-plane scheme (``scheme="scale-planes"``, the way the peer runs 2D-warping), in
+  this process and in a job worker;
 - the floor, measured in this process: one ``np.add.reduce`` over the rows of the goal's
   spectra (1,920 x 16 x 49 complex), which every pair reads;
 - with ``--peer PATH``: the peer's 2D-warping with double and fine search and without, on
   homebench's band and on the full image;
 
-and the AE of each; then the goal's part (CPU per goal) and ``describe`` (per view).
+and the AE of each; with ``--peer``, a paired comparison of the scale-plane scheme's AE with
+the peer's (double and fine search, band) over every pair of ``--ae-goals`` goals spread over the
+grid (goal-bootstrap intervals, sign-flip test over goals); then the goal's part (CPU per goal)
+and ``describe`` (per view).
 
-Run: ``python benchmarks/bench_warping_2d.py [--rounds N] [--pairs N] [--peer PATH]``.
+Run: ``python benchmarks/bench_warping_2d.py [--rounds N] [--pairs N] [--peer PATH]
+[--ae-goals N]``.
 """
 
 from __future__ import annotations
@@ -49,12 +55,18 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=5, help="alternated rounds")
     parser.add_argument("--pairs", type=int, default=None, help="the first N pairs only")
     parser.add_argument("--peer", type=Path, help="the peer's driver (see benchmarks/peer.py)")
+    parser.add_argument(
+        "--ae-goals", type=int, default=15, help="with --peer: goals of the paired AE comparison"
+    )
     args = parser.parse_args()
     print(load())
     positions = peer.currents(args.pairs)
     views = peer.views()
     described = {ij: Warping2D().describe(views[ij]) for ij in [peer.GOAL, *positions]}
     goal, currents = described[peer.GOAL], [described[ij] for ij in positions]
+    planes = functools.partial(Warping2D, scheme="scale-planes")
+    plane_goal = planes().describe(views[peer.GOAL])
+    plane_currents = [planes().describe(views[ij]) for ij in positions]
     kept = Warping2D()
     spectrum = kept.goal_part(goal, "numba").spectrum
     worker = peer.JobWorker(Warping2D.preload_modules)
@@ -70,6 +82,12 @@ def main() -> None:
         ),
         "homebench, goal's part kept": peer.homebench_figure(
             lambda: peer.method_pass(kept, currents, goal)
+        ),
+        "homebench scale-planes, this process": peer.homebench_figure(
+            lambda: peer.method_pass(planes(), plane_currents, plane_goal)
+        ),
+        "homebench scale-planes, job worker": peer.homebench_figure(
+            lambda: worker.method_pass(planes, plane_currents, plane_goal)
         ),
     }
     if args.peer:
@@ -89,6 +107,8 @@ def main() -> None:
         "/ off full": "peer, searches off, full",
     }
     peer.report(results, positions, bases)
+    if args.peer and args.ae_goals > 0:
+        peer.compare_over_goals(peer.spread_goals(args.ae_goals), planes, driver, "2d")
     cpu, wall = cpu_and_wall(lambda: Warping2D().goal_part(goal, "numba"), 3)
     print(f"the goal's part, once per goal: CPU {1e3 * cpu:.1f} ms, wall {1e3 * wall:.1f} ms")
     cpu, wall = cpu_and_wall(lambda: kept.describe(views[peer.GOAL]), 20)

@@ -47,6 +47,7 @@ from typing import Any
 import cv2
 import numpy as np
 
+from homebench.analysis.statistics import compare_ae
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import render_position
 from homebench.evaluation.executors import PRELOAD
@@ -88,22 +89,37 @@ def views() -> dict[Ij, View]:
     }
 
 
-def currents(limit: int | None) -> list[Ij]:
-    """The current positions of the goal's pairs (the first ``limit`` of them)."""
-    others = [ij for ij in WORLD.to_grid().indices() if ij != GOAL]
+def currents(limit: int | None, goal: Ij = GOAL) -> list[Ij]:
+    """The current positions of a goal's pairs (the first ``limit`` of them)."""
+    others = [ij for ij in WORLD.to_grid().indices() if ij != goal]
     return others[:limit]
 
 
-def ae(angles: tuple[float | None, ...], positions: list[Ij]) -> tuple[float, int]:
-    """Mean AE (deg) over the pairs with an estimate, and the pairs without one."""
-    goal = WORLD.pose(*GOAL)
-    errors = []
-    for angle, ij in zip(angles, positions, strict=True):
+def spread_goals(count: int) -> list[Ij]:
+    """``count`` goals spread evenly over the grid's positions (row-major), :data:`GOAL` first."""
+    others = [ij for ij in WORLD.to_grid().indices() if ij != GOAL]
+    picks = np.linspace(0, len(others) - 1, max(count - 1, 0)).round().astype(int)
+    return [GOAL, *(others[k] for k in picks)][:count]
+
+
+def errors(angles: tuple[float | None, ...], positions: list[Ij], goal: Ij = GOAL) -> np.ndarray:
+    """AE (radians, NaN: no estimate) of each pair's home direction: shape (len(positions),)."""
+    pose_goal = WORLD.pose(*goal)
+    out = np.full(len(positions), np.nan)
+    for k, (angle, ij) in enumerate(zip(angles, positions, strict=True)):
         if angle is not None:
             pose = WORLD.pose(*ij)
-            truth = home_direction((pose.x, pose.y), (goal.x, goal.y), pose.heading)
-            errors.append(math.degrees(angular_error(angle, truth)))
-    return (float(np.mean(errors)) if errors else math.nan), len(angles) - len(errors)
+            truth = home_direction((pose.x, pose.y), (pose_goal.x, pose_goal.y), pose.heading)
+            out[k] = angular_error(angle, truth)
+    return out
+
+
+def ae(angles: tuple[float | None, ...], positions: list[Ij]) -> tuple[float, int]:
+    """Mean AE (deg) over the pairs of :data:`GOAL` with an estimate, and the pairs without."""
+    found = errors(angles, positions)
+    found = found[np.isfinite(found)]
+    mean = float(np.degrees(found.mean())) if found.size else math.nan
+    return mean, len(angles) - found.size
 
 
 def load() -> float:
@@ -161,22 +177,22 @@ class JobWorker:
 
 
 class Peer:
-    """The peer's driver at ``path`` (see the module docstring), on PGM copies of the views."""
+    """The peer's driver at ``path`` (see the module docstring), on PGM copies of the views;
+    ``positions``: the currents of :data:`GOAL` that :meth:`run` times."""
 
     def __init__(self, path: Path, positions: list[Ij]):
         self.path, self.positions = path, positions
         self.scratch = tempfile.TemporaryDirectory(prefix="hb-peer-")  # removed at exit
         self.folder = Path(self.scratch.name)
-        self.written: dict[str, list[str]] = {}
+        self.written: dict[tuple[str, Ij], str] = {}
 
-    def images(self, kind: str) -> list[str]:
-        """PGM paths of the goal and the currents, as the peer reads them (``kind``), written
-        at the first call."""
-        if kind in self.written:
-            return self.written[kind]
+    def images(self, kind: str, positions: list[Ij]) -> list[str]:
+        """PGM paths of the views at ``positions``, as the peer reads them (``kind``), each
+        written at its first use."""
         rows, top, bottom = IMAGES[kind]
-        paths = self.written[kind] = []
-        for ij in [GOAL, *self.positions]:
+        for ij in positions:
+            if (kind, ij) in self.written:
+                continue
             view = views()[ij]
             image = view.image
             if kind == "band":
@@ -185,18 +201,34 @@ class Peer:
                 image = np.clip(np.rint(band), 0, 255).astype(np.uint8)
             path = self.folder / f"{kind}_{ij[0]}_{ij[1]}.pgm"
             cv2.imwrite(str(path), image)
-            paths.append(str(path))
-        return paths
+            self.written[kind, ij] = str(path)
+        return [self.written[kind, ij] for ij in positions]
 
-    def run(self, method: str, searches: bool, kind: str) -> Figure:
+    def run(
+        self,
+        method: str,
+        searches: bool,
+        kind: str,
+        goal: Ij = GOAL,
+        positions: list[Ij] | None = None,
+    ) -> Figure:
         """One timed pass of the peer: ``method`` ``min`` or ``2d``, double and fine search on
-        or off, on images of ``kind``."""
+        or off, on images of ``kind``, ``goal`` against ``positions`` (default: this peer's)."""
+        positions = self.positions if positions is None else positions
         rows, top, bottom = IMAGES[kind]
         step = math.radians(top - bottom) / rows
         horizon = math.radians(top) / step - 0.5
         flag = str(int(searches))
         start = load()
-        args = [method, flag, flag, repr(step), repr(horizon), "1", *self.images(kind)]
+        args = [
+            method,
+            flag,
+            flag,
+            repr(step),
+            repr(horizon),
+            "1",
+            *self.images(kind, [goal, *positions]),
+        ]
         out = subprocess.run(
             [str(self.path), *args], capture_output=True, text=True, check=True
         ).stdout.split("\n")
@@ -205,6 +237,35 @@ class Peer:
             float(alpha) - float(psi) + math.pi for _, _, alpha, psi in lines[:-1]
         )  # fmt: skip
         return Figure(float(lines[-1][1]), float(lines[-1][3]), angles, start)
+
+
+def compare_over_goals(
+    goals: list[Ij], make: Callable[[], Any], driver: Peer, method: str, kind: str = "band"
+) -> None:
+    """Print a paired comparison of the AE of homebench's ``make()`` and the peer's ``method``
+    (double and fine search, images of ``kind``) on every pair of each goal in ``goals``:
+    mean AE of each and of the difference with goal-bootstrap intervals (95 %), and the
+    sign-flip test over goals (:func:`homebench.analysis.statistics.compare_ae`)."""
+    ours, theirs, labels = [], [], []
+    described = {ij: make().describe(view) for ij, view in views().items()}
+    for goal in goals:
+        positions = currents(None, goal)
+        estimator = make()
+        angles = tuple(estimator.home(described[ij], described[goal]).angle for ij in positions)
+        ours.append(errors(angles, positions, goal))
+        theirs.append(
+            errors(driver.run(method, True, kind, goal, positions).angles, positions, goal)
+        )
+        labels += [goal] * len(positions)
+    result = compare_ae(np.concatenate(theirs), np.concatenate(ours), np.array(labels))
+    deg = math.degrees
+    print(f"AE over {len(goals)} goals ({len(labels)} pairs; no estimate counts as 90 deg), "
+          "mean [95 % goal-bootstrap interval]:")  # fmt: skip
+    for name, interval in (("homebench", result.mean_ae_b), ("peer", result.mean_ae_a),
+                           ("homebench - peer", result.mean_ae)):  # fmt: skip
+        print(f"  {name:17s} {deg(interval.estimate):6.3f} deg [{deg(interval.lo):.3f}, "
+              f"{deg(interval.hi):.3f}]")  # fmt: skip
+    print(f"  sign-flip test over goals: p = {result.p_goal:.3f}")
 
 
 def alternate(rounds: int, figures: dict[str, Callable[[], Figure]]) -> dict[str, list[Figure]]:
