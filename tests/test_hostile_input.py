@@ -341,3 +341,19 @@ def test_a_raw_image_method_on_an_unfolded_only_database(tmp_path: Path, databas
     line = _one_error_line(result.stderr)
     assert "'sift-P'" in line and "'arena'" in line and "raw" in line
     assert _no_jobs_ran(tmp_path / "run")
+
+
+@pytest.mark.parametrize("existing", [False, True])
+def test_a_run_refused_before_its_jobs_leaves_no_run_folder(
+    tmp_path: Path, database: Path, existing: bool
+) -> None:
+    """A run refused while it prepares its databases made the run folder (to lock it) and
+    left it behind with only the lock in it; a folder the user made stays, emptied of locks."""
+    run_dir = tmp_path / "run"
+    if existing:
+        run_dir.mkdir()
+    (database.parent / "pano" / "p2-3.png").write_bytes(b"")
+    result = _run(tmp_path, database)
+    assert result.exit_code == 2
+    assert run_dir.exists() == existing
+    assert not existing or not any(run_dir.iterdir())

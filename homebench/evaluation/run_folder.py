@@ -55,11 +55,42 @@ def _flock(fd: int, operation: int) -> bool:
     return True
 
 
+def _first_missing(folder: Path) -> Path | None:
+    """The outermost of ``folder`` and its parents that does not exist (None: it exists)."""
+    missing = None
+    while not folder.exists() and folder != folder.parent:
+        missing, folder = folder, folder.parent
+    return missing
+
+
+def _remove_if_unused(run_dir: Path, made: Path | None) -> None:
+    """Remove the lock files of a run that wrote nothing else into ``run_dir``, and the
+    folders up to ``made`` (the outermost one the run created, if any) that are then empty."""
+    try:
+        entries = set(os.listdir(run_dir))
+        if not entries <= {LOCK_FILE, CLAIM_FILE}:
+            return
+        for name in entries:
+            (run_dir / name).unlink()
+        if made is None:
+            return
+        for folder in (run_dir, *run_dir.parents):
+            folder.rmdir()
+            if folder == made:
+                return
+    except OSError:  # another process's file, a folder not empty: leave it
+        return
+
+
 @contextlib.contextmanager
 def lock_run_folder(run_dir: Path, shared: bool = False) -> Iterator[None]:
     """Hold the run folder's lock (``shared``: one shard of a run); RunFolderInUseError if
-    another run holds it."""
-    path = Path(run_dir) / LOCK_FILE
+    another run holds it. A run that ends in an error before it wrote anything but its locks
+    leaves no trace: an exclusive holder then removes the locks, and the folders the lock
+    file made (a shard never removes what other shards may use)."""
+    run_dir = Path(run_dir)
+    made = _first_missing(run_dir)
+    path = run_dir / LOCK_FILE
     fd = _open(path)
     try:
         if not _flock(fd, fcntl.LOCK_SH if shared else fcntl.LOCK_EX):
@@ -67,7 +98,12 @@ def lock_run_folder(run_dir: Path, shared: bool = False) -> Iterator[None]:
                 f"{run_dir}: in use by another homebench run (it holds {path}); "
                 "wait for it to end or choose another output folder"
             )
-        yield
+        try:
+            yield
+        except BaseException:
+            if not shared:
+                _remove_if_unused(run_dir, made)
+            raise
     finally:
         os.close(fd)
 
