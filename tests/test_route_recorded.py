@@ -10,8 +10,10 @@ write them (mm, degrees, spaces after commas, OpenCV's metadata)."""
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pandas as pd
 import pytest
@@ -176,3 +178,60 @@ def test_a_route_run_replays_a_recorded_route_with_both_families(
     assert (tmp_path / "run" / "report" / "report.pdf").stat().st_size > 0
     paired = pd.read_csv(tmp_path / "run" / "report" / "tables" / "routes_paired.csv")
     assert ("perfect-memory", "warping") in set(zip(paired["A"], paired["B"], strict=True))
+
+
+@pytest.mark.parametrize("kind", ["route", "grid"])
+def test_an_edited_database_gives_route_and_closed_loop_trials_new_keys(
+    tmp_path: Path, kind: str
+) -> None:
+    """A trial's key named its database by locator and path only, so a run after an image or
+    a pose was corrected reused the trials homed on the old ones. Its key now holds what the
+    database holds; the run that starts reads the database afresh."""
+    from homebench.experiments.closed_loop.config import ClosedLoopConfig
+    from homebench.experiments.closed_loop.experiment import scene_key
+    from homebench.experiments.route.experiment import route_jobs
+    from homebench.experiments.scene import forget_databases
+
+    folder = (write_route if kind == "route" else write_grid)(tmp_path / "db")
+    waypoints = "recorded" if kind == "route" else [[0.0, 0.0], [0.3, 0.0]]
+    config = RouteConfig.model_validate({
+        "kind": "route", "output": str(tmp_path / "out"), "database": str(folder),
+        "routes": [{"name": "r", "waypoints": waypoints, "frame": "world"}],
+        "methods": [{"method": "warping"}],
+    })  # fmt: skip
+    loop = None
+    if kind == "grid":
+        loop = ClosedLoopConfig.model_validate({
+            "kind": "closed-loop", "output": str(tmp_path / "loop"), "database": str(folder),
+            "methods": [{"method": "warping"}], "goals": [{"grid": [2, 2]}],
+            "starts": {"random": 3, "seed": 1},
+        })  # fmt: skip
+
+    def keys() -> list[object]:
+        forget_databases()  # as a run does when it starts
+        found: list[object] = [job.key for job in route_jobs(config)]
+        return found + ([] if loop is None else [scene_key(loop, "database")])
+
+    before = keys()
+    assert before == keys()  # nothing changed: the same keys
+    image = sorted(folder.glob("*.png"))[1]
+    pixels = cv2.imread(str(image), cv2.IMREAD_UNCHANGED)
+    cv2.imwrite(str(image), 255 - pixels)  # the same size, other pixels
+    _later(image)
+    edited = keys()
+    assert all(new != old for new, old in zip(edited, before, strict=True))
+    listing = folder / "database_entries.csv"
+    lines = listing.read_text().splitlines()
+    fields = lines[2].split(",")
+    fields[3] = f" {float(fields[3]) + 10.0:g}"  # a corrected heading of the second image
+    lines[2] = ",".join(fields)
+    listing.write_text("\n".join(lines) + "\n")
+    _later(listing)
+    assert all(new != old for new, old in zip(keys(), edited, strict=True))
+
+
+def _later(path: Path) -> None:
+    """Date ``path`` a second on, as a user's edit would be: files are known by their size and
+    modification time, and this test edits faster than the file system's clock ticks."""
+    stat = path.stat()
+    os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1_000_000_000))

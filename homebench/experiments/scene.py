@@ -13,6 +13,7 @@ neighbour), the rule of the grid's one spacing.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -26,10 +27,11 @@ from homebench.config import UnfoldConfig
 from homebench.data import catalog
 from homebench.data.bob import open_bob
 from homebench.data.database import GridDatabase
+from homebench.data.file_hashes import file_hashes
 from homebench.data.posed import PosedDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
-from homebench.evaluation.sources import database_view, unfolded_view
+from homebench.evaluation.sources import content_key, database_view, real_identity, unfolded_view
 from homebench.geometry import (
     Grid,
     PanoramaGeometry,
@@ -38,7 +40,7 @@ from homebench.geometry import (
     nearest_distances,
     wrap_angle,
 )
-from homebench.hashing import derived_seed
+from homebench.hashing import derived_seed, stable_hash
 from homebench.imaging.rotation import rotate_view
 from homebench.views import View
 
@@ -199,3 +201,37 @@ def _posed(folder: Path) -> PosedDatabase:
     posed = open_bob(folder)
     posed.check_images()
     return posed
+
+
+@lru_cache(maxsize=8)
+def database_content(locator: str, path: Path | None) -> str:
+    """16 hex digits naming what an experiment's database shows the robot, for trial keys: a
+    generated set's spec; a real set's identity (its folder and what its manifest says) and
+    its images' sha256s; a recording's folder, camera, poses and images' sha256s. Files are
+    hashed once and kept by path, size and mtime (:mod:`homebench.data.file_hashes`); the
+    result is kept in this process until :func:`forget_databases`."""
+    folder = catalog.bob_folder(locator, path)
+    if folder is not None:
+        posed = _posed(folder)
+        if posed.grid is None:
+            paths = [posed.path(k) for k in range(len(posed))]
+            sums = file_hashes(paths)
+            poses = [posed.xy.tolist(), posed.heading_deg.tolist()]
+            camera = dataclasses.asdict(posed.camera)
+            return stable_hash(
+                [str(posed.root.resolve()), camera, poses, [sums[p] for p in paths]], 16
+            )
+    database = _database(locator, path)
+    generator = database.manifest.generator
+    if generator is not None:
+        return stable_hash(generator.spec.key(), 16)
+    return stable_hash([real_identity(database), content_key(database, database.kinds)], 16)
+
+
+def forget_databases() -> None:
+    """Drop what this process keeps of experiment databases (content keys, recordings), so
+    that a run starting now reads them as they are: an image or a pose corrected since the
+    last run gives its trials new keys."""
+    database_content.cache_clear()
+    _database.cache_clear()
+    _posed.cache_clear()

@@ -38,7 +38,7 @@ from homebench.experiments.closed_loop.tables import TABLES_DIR, write_tables
 from homebench.experiments.closed_loop.views import LatticeViews
 from homebench.experiments.memory import MemoryGuide, is_memory_method
 from homebench.experiments.robot import Robot
-from homebench.experiments.scene import Scene, open_scene
+from homebench.experiments.scene import Scene, database_content, forget_databases, open_scene
 from homebench.experiments.trials import TrialRunOutcome
 from homebench.fileio import make_folder, read_json_record, write_text_atomic
 from homebench.geometry import Pose
@@ -82,9 +82,11 @@ def _folder_name(label: str) -> str:
 
 
 def scene_key(config: ClosedLoopConfig, style: str) -> dict[str, Any]:
-    """What identifies the scene of ``style`` in keys: the database or the world's hash."""
+    """What identifies the scene of ``style`` in keys: the database and what it holds
+    (:func:`~homebench.experiments.scene.database_content`), or the world's hash."""
     if config.database is not None:
-        return {"database": config.database, "path": str(config.database_path)}
+        content = database_content(config.database, config.database_path)
+        return {"database": config.database, "path": str(config.database_path), "content": content}
     return {"world": _world(config, style).key()}
 
 
@@ -332,6 +334,7 @@ def run_closed_loop_experiment(
     show_progress: bool = True,
 ) -> TrialRunOutcome:
     """Run every unfinished trial of ``config`` and write the tables."""
+    forget_databases()  # read as they are now: an edited database gives other keys
     try:
         plan = [ClosedLoopJob(config, trial) for trial in plan_trials(config)]
     except ConfigError as error:

@@ -311,10 +311,15 @@ class RouteConfig(_Strict):
         return method_points(self.methods)
 
     def scene_key(self) -> dict[str, Any]:
-        """What identifies the scene in trial keys: the database or the world spec's hash."""
+        """What identifies the scene in trial keys: the database and what it holds
+        (:func:`~homebench.experiments.scene.database_content`), or the world spec's hash."""
         if self.database is not None:
+            from homebench.experiments.scene import database_content  # opens the database
+
             reach = {} if self.recorded_reach_m is None else {"reach": self.recorded_reach_m}
-            return {"database": self.database, "path": str(self.database_path), **reach}
+            content = database_content(self.database, self.database_path)
+            return {"database": self.database, "path": str(self.database_path),
+                    "content": content, **reach}  # fmt: skip
         return {"world": self.world.key()}
 
     def klt(self) -> KltTracker:

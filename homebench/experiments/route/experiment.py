@@ -64,7 +64,7 @@ from homebench.experiments.route.pairwise import PairwiseHoming, Target, grey, h
 from homebench.experiments.route.probes import catchment, plan_probes, probe_route, probe_tables
 from homebench.experiments.route.snapshots import SnapshotRule, similarity_frames, spacing_frames
 from homebench.experiments.route.visual import home_visually
-from homebench.experiments.scene import Camera, Scene, open_scene
+from homebench.experiments.scene import Camera, Scene, forget_databases, open_scene
 from homebench.experiments.trials import TrialRunOutcome
 from homebench.fileio import make_folder, read_json_record, write_text_atomic
 from homebench.geometry import FloatArray, Pose, angular_error
@@ -575,6 +575,7 @@ def run_route_experiment(
     show_progress: bool = True,
 ) -> TrialRunOutcome:
     """Run every unfinished trial of ``config`` and write the routes table."""
+    forget_databases()  # read as they are now: an edited database gives other keys
     check_routes(config, route_scene(config), config_path)
     run_dir = Path(config.output)
     make_folder(run_dir)
