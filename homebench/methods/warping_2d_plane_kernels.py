@@ -14,20 +14,16 @@ widened and added, which LLVM vectorises). A partial sum takes at most
 (one coarse search of the default parameters, 288 x 72 views): the three goal columns of one
 step added in one pass (explicit 16-bit casts), row indices taken as unsigned (numba then drops
 its negative-index branch), and the number of steps a compile-time constant
-(:func:`coarse_kernel`): 3.0 -> 1.4 ms together.
+(:data:`DEFAULT_STEPS`; other numbers run the same code over a run-time number): 3.0 -> 1.4 ms
+together.
 
 Compilation, read-only inputs and determinism as :mod:`homebench.methods.min_warping_kernels`:
-each kernel compiled for one signature when this module is imported (the coarse search for the
-default number of steps; another number compiles at its first use, 1-2 s once, then loads from
-numba's cache), which a run's worker server does before it forks (warping-2d's
-``preload_modules``); no ``fastmath``, no ``parallel`` (integer sums: the order cannot change a
-result); ``nogil``.
+each kernel compiled for one signature when this module is imported (or loaded from numba's
+cache), which a run's worker server does before it forks (warping-2d's ``preload_modules``); no
+``fastmath``, no ``parallel`` (integer sums: the order cannot change a result); ``nogil``.
 """
 
 from __future__ import annotations
-
-from collections.abc import Callable
-from functools import cache
 
 import numpy as np
 from numba import njit, types
@@ -42,6 +38,8 @@ IntArray = NDArray[np.intp]
 
 #: Goal columns summed in one 16-bit partial sum: their largest total, 257 * 255, fits 16 bits.
 COLUMNS_PER_PASS = np.iinfo(np.uint16).max // STACK_MAX
+#: The number of alpha and psi steps the coarse search is compiled for (min-warping's default).
+DEFAULT_STEPS = MinWarping().n_columns
 
 
 def _array(dtype: types.Type, ndim: int, readonly: bool = False) -> types.Array:
@@ -86,76 +84,80 @@ def _row_offsets(
     return first, start
 
 
-@cache
-def coarse_kernel(n_steps: int) -> Callable[[U8Array, int, IntArray, IntArray], I64Array]:
-    """:func:`coarse_costs` for ``n_steps`` alpha and psi steps, compiled with that number as a
-    constant: LLVM then vectorises its loops over the steps without remainder code (a third
-    faster at 96 steps than the same loops over a run-time length). Compiled once per number
-    of steps and process, or loaded from numba's cache (keyed by the number)."""
-    blocks = n_steps
+@njit(cache=True, nogil=True)
+def _fold(total: NDArray[np.int32], part: NDArray[np.uint16]) -> None:
+    """Add the doubled partial sums ``part`` [s, alpha (+ n_steps)] into ``total`` [s, alpha]
+    and clear them."""
+    blocks = total.shape[1]
+    for s in range(total.shape[0]):
+        sums, low, high = total[s], part[s, :blocks], part[s, blocks:]
+        for a in range(blocks):
+            sums[a] += np.int32(low[a]) + np.int32(high[a])
+        part[s] = 0
 
-    @njit(cache=True, nogil=True)
-    def _fold(total: NDArray[np.int32], part: NDArray[np.uint16]) -> None:
-        """Add the doubled partial sums ``part`` [s, alpha (+ blocks)] into ``total`` [s,
-        alpha] and clear them."""
+
+@njit(inline="always")
+def _coarse(table: U8Array, step: int, plane: IntArray, y: IntArray, blocks: int) -> I64Array:
+    """:func:`coarse_costs` with ``blocks`` (the number of steps, ``table.shape[1]``) passed
+    in: inlined where it is a constant, LLVM vectorises the loops over the steps without
+    remainder code (a third faster at 96 steps than over a run-time length)."""
+    first, start = _row_offsets(table, step, plane, y)
+    best = np.full((blocks, blocks), np.iinfo(np.int32).max, dtype=np.int32)  # [s, alpha]
+    total = np.empty((blocks, blocks), dtype=np.int32)  # [s, alpha]
+    part = np.zeros((blocks, 2 * blocks), dtype=np.uint16)  # [s, alpha (+ blocks)]
+    for r in range(plane.shape[0]):
+        total[:] = 0
+        added = 0  # goal offsets in part: at most COLUMNS_PER_PASS
+        for base in range(blocks):
+            low, high = blocks - base, 2 * blocks - base
+            for x in range(base * step, base * step + step - step % 3, 3):
+                if added + 3 > COLUMNS_PER_PASS:
+                    _fold(total, part)
+                    added = 0
+                added += 3
+                one, two, three = first[r, x], first[r, x + 1], first[r, x + 2]
+                for s in range(blocks):
+                    target = part[s, low:high]
+                    a_row = table[_unsigned(one + wrap(start[r, x] + s, blocks))]
+                    b_row = table[_unsigned(two + wrap(start[r, x + 1] + s, blocks))]
+                    c_row = table[_unsigned(three + wrap(start[r, x + 2] + s, blocks))]
+                    for a in range(blocks):
+                        target[a] = np.uint16(
+                            target[a] + np.uint16(a_row[a]) + np.uint16(b_row[a])
+                            + np.uint16(c_row[a])
+                        )  # fmt: skip
+            for x in range(base * step + step - step % 3, base * step + step):
+                if added + 1 > COLUMNS_PER_PASS:
+                    _fold(total, part)
+                    added = 0
+                added += 1
+                for s in range(blocks):
+                    target = part[s, low:high]
+                    a_row = table[_unsigned(first[r, x] + wrap(start[r, x] + s, blocks))]
+                    for a in range(blocks):
+                        target[a] = np.uint16(target[a] + np.uint16(a_row[a]))
+        _fold(total, part)
         for s in range(blocks):
-            sums, low, high = total[s], part[s, :blocks], part[s, blocks:]
-            for a in range(blocks):
-                sums[a] += np.int32(low[a]) + np.int32(high[a])
-            part[s] = 0
+            lowest, sums = best[s], total[s]
+            for a in range(blocks):  # a ternary, not min(): LLVM vectorises it
+                lowest[a] = sums[a] if sums[a] < lowest[a] else lowest[a]
+    out = np.empty((blocks, blocks), dtype=np.int64)
+    for s in range(blocks):
+        for a in range(blocks):
+            out[a, wrap(a - s + blocks, blocks)] = best[s, a]
+    return out
 
-    @njit(SIGNATURES["coarse_costs"], cache=True, nogil=True)
-    def coarse_costs(table: U8Array, step: int, plane: IntArray, y: IntArray) -> I64Array:
-        """See :func:`coarse_costs`."""
-        if table.shape[1] != blocks:
-            raise ValueError("the table's steps are not the kernel's")
-        first, start = _row_offsets(table, step, plane, y)
-        best = np.full((blocks, blocks), np.iinfo(np.int32).max, dtype=np.int32)  # [s, alpha]
-        total = np.empty((blocks, blocks), dtype=np.int32)  # [s, alpha]
-        part = np.zeros((blocks, 2 * blocks), dtype=np.uint16)  # [s, alpha (+ blocks)]
-        for r in range(plane.shape[0]):
-            total[:] = 0
-            added = 0  # goal offsets in part: at most COLUMNS_PER_PASS
-            for base in range(blocks):
-                low, high = blocks - base, 2 * blocks - base
-                for x in range(base * step, base * step + step - step % 3, 3):
-                    if added + 3 > COLUMNS_PER_PASS:
-                        _fold(total, part)
-                        added = 0
-                    added += 3
-                    one, two, three = first[r, x], first[r, x + 1], first[r, x + 2]
-                    for s in range(blocks):
-                        target = part[s, low:high]
-                        a_row = table[_unsigned(one + wrap(start[r, x] + s, blocks))]
-                        b_row = table[_unsigned(two + wrap(start[r, x + 1] + s, blocks))]
-                        c_row = table[_unsigned(three + wrap(start[r, x + 2] + s, blocks))]
-                        for a in range(blocks):
-                            target[a] = np.uint16(
-                                target[a] + np.uint16(a_row[a]) + np.uint16(b_row[a])
-                                + np.uint16(c_row[a])
-                            )  # fmt: skip
-                for x in range(base * step + step - step % 3, base * step + step):
-                    if added + 1 > COLUMNS_PER_PASS:
-                        _fold(total, part)
-                        added = 0
-                    added += 1
-                    for s in range(blocks):
-                        target = part[s, low:high]
-                        a_row = table[_unsigned(first[r, x] + wrap(start[r, x] + s, blocks))]
-                        for a in range(blocks):
-                            target[a] = np.uint16(target[a] + np.uint16(a_row[a]))
-            _fold(total, part)
-            for s in range(blocks):
-                lowest, sums = best[s], total[s]
-                for a in range(blocks):  # a ternary, not min(): LLVM vectorises it
-                    lowest[a] = sums[a] if sums[a] < lowest[a] else lowest[a]
-        out = np.empty((blocks, blocks), dtype=np.int64)
-        for s in range(blocks):
-            for a in range(blocks):
-                out[a, wrap(a - s + blocks, blocks)] = best[s, a]
-        return out
 
-    return coarse_costs
+@njit(SIGNATURES["coarse_costs"], cache=True, nogil=True)
+def _coarse_default(table: U8Array, step: int, plane: IntArray, y: IntArray) -> I64Array:
+    """:func:`_coarse` for :data:`DEFAULT_STEPS` steps, a compile-time constant."""
+    return _coarse(table, step, plane, y, DEFAULT_STEPS)
+
+
+@njit(SIGNATURES["coarse_costs"], cache=True, nogil=True)
+def _coarse_any(table: U8Array, step: int, plane: IntArray, y: IntArray) -> I64Array:
+    """:func:`_coarse` for any number of steps."""
+    return _coarse(table, step, plane, y, table.shape[1])
 
 
 def coarse_costs(table: U8Array, step: int, plane: IntArray, y: IntArray) -> I64Array:
@@ -169,10 +171,13 @@ def coarse_costs(table: U8Array, step: int, plane: IntArray, y: IntArray) -> I64
     :func:`_row_offsets`): each x adds its rows into the doubled partial sums ``[s, c]`` from
     ``c = n_steps - x // step``, whose alpha a is at c = a and c = a + n_steps. The goal
     offsets of one step (one x // step) share those targets: three at a time are added in one
-    pass, with explicit 16-bit casts (LLVM then vectorises the pass in 16-bit lanes). Runs
-    :func:`coarse_kernel` of the table's number of steps.
+    pass, with explicit 16-bit casts (LLVM then vectorises the pass in 16-bit lanes). The
+    default number of steps runs a kernel compiled for it (:data:`DEFAULT_STEPS`), any other
+    the same code over a run-time number (one kernel each, so that numba's cache holds one
+    entry per kernel, which concurrent processes cannot mix up).
     """
-    return coarse_kernel(table.shape[1])(table, step, plane, y)
+    kernel = _coarse_default if table.shape[1] == DEFAULT_STEPS else _coarse_any
+    return kernel(table, step, plane, y)
 
 
 @njit(SIGNATURES["pair_costs"], cache=True, nogil=True)
@@ -200,8 +205,3 @@ def pair_costs(
             best = total if total < best else best
         out[pair] = best
     return out
-
-
-# The default number of steps' coarse search, compiled (or loaded) where this module is
-# imported: in a worker server before it forks, so that no worker compiles it again.
-coarse_kernel(MinWarping().n_columns)
