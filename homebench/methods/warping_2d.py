@@ -52,7 +52,7 @@ parameters for it are listed here as "Scheme 'scale-planes' only." Measured agai
 (``benchmarks/bench_warping_2d.py --peer``, a generated 10 x 17 grid of 288 x 72 panoramas): the
 same AE, 5.31 deg against its 5.34 over 15 goals (difference -0.03 deg, 95 % goal-bootstrap
 interval [-0.38, 0.30]); on goal (5, 9) 1.23 deg against 1.23, where the image scheme has 2.70,
-at 1.2x its CPU per pair.
+at 1.14-1.21x its CPU per pair.
 
 Paper look-up (issue 14): Möller's (2009) rho grid is not in reach here: the searched public
 pages hold no text of the paper (searches for its title and for the warping parameter grid
