@@ -247,11 +247,11 @@ def compare_over_goals(
     mean AE of each and of the difference with goal-bootstrap intervals (95 %), and the
     sign-flip test over goals (:func:`homebench.analysis.statistics.compare_ae`)."""
     ours, theirs, labels = [], [], []
-    described = {ij: make().describe(view) for ij, view in views().items()}
+    homing = make()
+    described = {ij: homing.describe(view) for ij, view in views().items()}
     for goal in goals:
         positions = currents(None, goal)
-        estimator = make()
-        angles = tuple(estimator.home(described[ij], described[goal]).angle for ij in positions)
+        angles = tuple(homing.home(described[ij], described[goal]).angle for ij in positions)
         ours.append(errors(angles, positions, goal))
         theirs.append(
             errors(driver.run(method, True, kind, goal, positions).angles, positions, goal)
