@@ -13,7 +13,6 @@ neighbour), the rule of the grid's one spacing.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -27,7 +26,6 @@ from homebench.config import UnfoldConfig
 from homebench.data import catalog
 from homebench.data.bob import open_bob
 from homebench.data.database import GridDatabase
-from homebench.data.file_hashes import file_hashes
 from homebench.data.posed import PosedDatabase
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError, build_world
@@ -206,21 +204,10 @@ def _posed(folder: Path) -> PosedDatabase:
 @lru_cache(maxsize=8)
 def database_content(locator: str, path: Path | None) -> str:
     """16 hex digits naming what an experiment's database shows the robot, for trial keys: a
-    generated set's spec; a real set's identity (its folder and what its manifest says) and
-    its images' sha256s; a recording's folder, camera, poses and images' sha256s. Files are
-    hashed once and kept by path, size and mtime (:mod:`homebench.data.file_hashes`); the
-    result is kept in this process until :func:`forget_databases`."""
-    folder = catalog.bob_folder(locator, path)
-    if folder is not None:
-        posed = _posed(folder)
-        if posed.grid is None:
-            paths = [posed.path(k) for k in range(len(posed))]
-            sums = file_hashes(paths)
-            poses = [posed.xy.tolist(), posed.heading_deg.tolist()]
-            camera = dataclasses.asdict(posed.camera)
-            return stable_hash(
-                [str(posed.root.resolve()), camera, poses, [sums[p] for p in paths]], 16
-            )
+    generated set's spec; a real set's identity (folder, manifest, a recording's poses:
+    :func:`~homebench.evaluation.sources.real_identity`) and its images' sha256s (hashed once,
+    kept by path, size and mtime), as grid runs key them. Kept in this process until
+    :func:`forget_databases`."""
     database = _database(locator, path)
     generator = database.manifest.generator
     if generator is not None:
