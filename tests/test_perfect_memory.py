@@ -68,16 +68,56 @@ def test_a_stored_view_turned_by_k_columns_points_minus_k_columns_at_the_right_v
     assert estimate.score == pytest.approx(0.0, abs=1e-6)
 
 
-def test_the_ridf_is_the_smallest_rms_difference_over_the_stored_views() -> None:
-    method = PerfectMemory()
+@pytest.mark.parametrize(
+    ("difference", "measure"),
+    [
+        ("mad", lambda a, b: np.mean(np.abs(a - b))),
+        ("rms", lambda a, b: np.sqrt(np.mean((a - b) ** 2))),
+    ],
+)
+def test_the_ridf_is_the_smallest_difference_over_the_stored_views(difference, measure) -> None:
+    """Per column shift, the smallest difference to any stored view: mean absolute (BoB's
+    AbsDiff: cv::absdiff then cv::mean) or root mean square, written out."""
+    method = PerfectMemory(difference=difference)
     views = _views(3, seed=1)
     current = _views(1, seed=2)[0]
     profile = method.unfamiliarity(method.learn(views), current)
     expected = [
-        min(np.sqrt(np.mean((np.roll(current, s, axis=-1) - view) ** 2)) for view in views)
-        for s in range(N)
+        min(measure(np.roll(current, s, axis=-1), view) for view in views) for s in range(N)
     ]
-    assert np.allclose(profile, expected, atol=1e-9)
+    assert np.allclose(profile, expected, rtol=0, atol=1e-12)
+
+
+def test_the_default_difference_is_the_mean_absolute_one_of_brains_on_board() -> None:
+    assert PerfectMemory().difference == "mad"
+    with pytest.raises(ConfigError, match="difference"):
+        PerfectMemory(difference="ssd")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("k", [0, 7, -12])
+def test_mad_and_rms_recognise_different_views(k: int) -> None:
+    """Stored view A is the current place's view with every pixel 0.2 off; stored view B is
+    the same view with 20 of its 180 pixels 0.9 off and the others exact. By hand: the mean
+    absolute difference is 0.2 for A and 20 * 0.9 / 180 = 0.1 for B, so mad recognises B; the
+    root mean square is 0.2 for A and sqrt(20 * 0.81 / 180) = 0.3 for B, so rms recognises A.
+    Every other rotation differs more from both (a random texture), so both find the turn."""
+    place = np.random.default_rng(5).uniform(0.0, 1.0, (5, N))
+    near_a = np.where(place < 0.8, place + 0.2, place - 0.2)
+    near_b = place.copy()
+    extreme = np.flatnonzero((place < 0.1) | (place > 0.9))[:20]
+    assert extreme.size == 20
+    flat = near_b.reshape(-1)
+    flat[extreme] = np.where(flat[extreme] < 0.1, flat[extreme] + 0.9, flat[extreme] - 0.9)
+    assert np.allclose(np.abs(near_a - place), 0.2) and np.count_nonzero(near_b - place) == 20
+    current = np.roll(place, -k, axis=-1)  # the robot turned ccw by k columns
+    found = {}
+    for difference in ("mad", "rms"):
+        method = PerfectMemory(difference=difference)
+        estimate = method.follow(method.learn([near_a, near_b]), current)
+        assert _same_angle(estimate.angle, -k * COLUMN)
+        found[difference] = (estimate.diagnostics["view"], estimate.score)
+    assert found["mad"][0] == 1 and found["mad"][1] == pytest.approx(0.1, abs=1e-12)
+    assert found["rms"][0] == 0 and found["rms"][1] == pytest.approx(0.2, abs=1e-12)
 
 
 def test_describe_keeps_the_sign_through_a_rendered_size_panorama() -> None:
