@@ -33,7 +33,12 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from homebench.bounds import MAX_AHC_BINS, MAX_BANDS, count_problem, workers_problem
-from homebench.data.bob.overrides import BobOverrides, ImageOverrides
+from homebench.data.bob.overrides import (
+    BobOverrides,
+    GridOverride,
+    HeadingsOverride,
+    ImageOverrides,
+)
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
 from homebench.geometry import PanoramaGeometry
@@ -72,13 +77,17 @@ class _Strict(BaseModel):
 
 class DatabaseRef(_Strict):
     """A database of the run: a known name, manifest path or Brains on Board folder (``name``),
-    or an inline ``world``. ``images`` states a Brains on Board folder's camera model (as its
-    ``homebench.yaml`` would: :mod:`homebench.data.bob.overrides`), replacing what is assumed."""
+    or an inline ``world``. ``images`` (the camera model), ``headings`` (how headings are
+    written) and ``grid`` (the labels' order) state a Brains on Board folder's conventions, as
+    its ``homebench.yaml`` would (:mod:`homebench.data.bob.overrides`), replacing the file's
+    and what is assumed."""
 
     name: str | None = None
     path: Path | None = None  # root of a real set's copy (overrides the manifest's env variable)
     world: WorldSpec | None = None
     images: ImageOverrides | None = None
+    headings: HeadingsOverride | None = None
+    grid: GridOverride | None = None
 
     @model_validator(mode="after")
     def _one_source(self) -> DatabaseRef:
@@ -86,14 +95,17 @@ class DatabaseRef(_Strict):
             raise ValueError("give exactly one of 'name' and 'world'")
         if self.world is not None and self.path is not None:
             raise ValueError("'path' is for named databases, not generated worlds")
-        if self.world is not None and self.images is not None:
-            raise ValueError("'images' is for Brains on Board folders, not generated worlds")
+        for key in ("images", "headings", "grid"):
+            if self.world is not None and getattr(self, key) is not None:
+                raise ValueError(f"{key!r} is for Brains on Board folders, not generated worlds")
         return self
 
     @property
     def overrides(self) -> BobOverrides | None:
         """What the entry states of a Brains on Board folder (None: nothing)."""
-        return None if self.images is None else BobOverrides(images=self.images)
+        stated = {k: getattr(self, k) for k in ("images", "headings", "grid")}
+        given = {k: v for k, v in stated.items() if v is not None}
+        return BobOverrides(**given) if given else None
 
 
 class RandomGoals(_Strict):

@@ -296,6 +296,30 @@ def other_direction(direction: Direction) -> Direction:
 
 
 @dataclass(frozen=True)
+class HeadingConvention:
+    """How another project writes headings: ``zero_deg`` is the world direction (degrees, ccw
+    from +x) of a recorded heading of 0, ``direction`` the way recorded headings grow seen
+    from above. homebench's own: zero 0, ccw; a compass bearing (clockwise from +y, "north"):
+    zero 90, cw."""
+
+    zero_deg: float = 0.0
+    direction: Direction = "ccw"
+
+    def __post_init__(self) -> None:
+        _sign(self.direction)
+
+    def to_world_deg(self, recorded_deg: ArrayLike) -> FloatArray:
+        """World headings (degrees, ccw from +x) of ``recorded_deg`` (any shape)."""
+        recorded = np.asarray(recorded_deg, dtype=np.float64)
+        return self.zero_deg + _sign(self.direction) * recorded
+
+    def from_world_deg(self, world_deg: ArrayLike) -> FloatArray:
+        """Recorded headings (degrees, this convention) of world headings ``world_deg``."""
+        world = np.asarray(world_deg, dtype=np.float64)
+        return _sign(self.direction) * (world - self.zero_deg)
+
+
+@dataclass(frozen=True)
 class PanoramaGeometry:
     """An unfolded (cylindrical, equiangular) panorama of ``width`` x ``height`` pixels."""
 

@@ -1,15 +1,19 @@
-"""Brains on Board image databases written by hand, as BoB robotics' recorders leave them.
+"""Brains on Board image databases written by hand, as BoB robotics' Ant World tools leave them.
 
-The images are panoramas of the analytic arena (tests/synthetic_panorama.py: 288 x 48, +-30
-deg, azimuth 0 at column 0 growing ccw), rendered at each pose with its own heading and
-written with cv2; the CSV and the metadata are typed text: spaces after the commas, positions
-in mm, headings in degrees and not all equal, OpenCV's ``%YAML:1.0`` line and a
-``!!opencv-matrix``. No homebench code writes any of it, so a reading bug of homebench's
-cannot cancel out.
-
-The arena images match what homebench assumes of unwrapped BoB images (the horizon at the
-middle row, square pixels, azimuth 0 at column 0 growing to the right), so that ``data check``
-must agree with them without a ``homebench.yaml``.
+The images are the analytic arena (tests/synthetic_panorama.py, with the rich wall of
+tests/validation_scenes.py, on which min-warping homes: its own wall repeats every 120 deg once
+edge-filtered) laid out as BoB's Ant World
+renderer lays out its panoramas, by BoB's formula, not homebench's camera model: column c of a
+W-wide image with recorded heading h looks along the compass bearing ``h + 360 (c + 0.5 -
+W/2) / W`` (clockwise from +y), row r of an H-high one at elevation ``60 - 75 (r + 0.5) / H``
+(BoB's ``src/antworld/render_mesh.cc`` and ``renderer.cc``; homebench/data/bob/conventions.py
+says how that was read and checked on BoB's own images). Headings are compass bearings; a
+route's are computed from its positions by BoB's ``RouteContinuous`` formula (``90 +
+atan2(start.y - end.y, end.x - start.x)`` of the segment an image lies on), so the camera faces
+the way it travels. Images are written with cv2; the CSV and the metadata are typed text:
+spaces after the commas, positions in mm, headings in degrees and not all equal, OpenCV's
+``%YAML:1.0`` line and a ``!!opencv-matrix``. No homebench code writes any of it, so a reading
+bug of homebench's cannot cancel out.
 """
 
 from __future__ import annotations
@@ -19,10 +23,12 @@ from pathlib import Path
 
 import cv2
 import numpy as np
-from synthetic_panorama import GEOMETRY, render
+from synthetic_panorama import render_rays
+from validation_scenes import rich_texture
 
-from homebench.geometry import Pose
-
+#: BoB's Ant World images are 720 x 150 (ant_world_db_creator's RenderSize): these, of the same
+#: field of view (360 x 75 deg), are 288 x 60.
+WIDTH, HEIGHT = 288, 60
 GRID_SHAPE = (5, 5)
 SPACING_MM = 300.0
 ORIGIN_MM = (-600.0, -450.0)
@@ -32,6 +38,27 @@ HEADING_DEG = 30.0
 TURNED_DEG = {(1, 2): 75.0, (3, 3): -20.0, (4, 0): 200.0}
 #: The route: poses on an arc around the arena centre, each facing along it.
 ROUTE_POSES = 10
+
+
+def bob_bearings_deg(heading_deg: float) -> np.ndarray:
+    """Compass bearing (deg, clockwise from +y) each column of a BoB Ant World image with
+    recorded heading ``heading_deg`` looks along, shape (WIDTH,)."""
+    return heading_deg + 360.0 * (np.arange(WIDTH) + 0.5 - WIDTH / 2) / WIDTH
+
+
+def bob_elevations_deg() -> np.ndarray:
+    """Elevation (deg) of each row of a BoB Ant World image, shape (HEIGHT,)."""
+    return 60.0 - 75.0 * (np.arange(HEIGHT) + 0.5) / HEIGHT
+
+
+def bob_image(x_mm: float, y_mm: float, heading_deg: float) -> np.ndarray:
+    """The arena seen from (x, y) mm with compass heading ``heading_deg``, laid out as BoB's
+    Ant World renders: (HEIGHT, WIDTH) uint8."""
+    world = np.radians(90.0 - bob_bearings_deg(heading_deg))  # ccw from +x
+    elevations = np.radians(bob_elevations_deg())
+    grey = render_rays(x_mm / 1000.0, y_mm / 1000.0, world, elevations, rich_texture)
+    return np.rint(grey).astype(np.uint8)
+
 
 GRID_METADATA = """\
 %YAML:1.0
@@ -46,7 +73,7 @@ metadata:
       size: [ 5, 5, 1 ]
    camera:
       name: opengl
-      resolution: [ 288, 48 ]
+      resolution: [ 288, 60 ]
       isPanoramic: 0
    needsUnwrapping: 0
    isGreyscale: 0
@@ -65,7 +92,7 @@ metadata:
    type: route
    camera:
       name: opengl
-      resolution: [ 288, 48 ]
+      resolution: [ 288, 60 ]
       isPanoramic: 0
    needsUnwrapping: 0
 """
@@ -85,7 +112,7 @@ def grid_heading_deg(i: int, j: int) -> float:
 
 
 def _write_image(path: Path, x_mm: float, y_mm: float, heading_deg: float, colour: bool) -> None:
-    image = render(Pose(x_mm / 1000.0, y_mm / 1000.0, math.radians(heading_deg))).image
+    image = bob_image(x_mm, y_mm, heading_deg)
     if colour:  # a recorder's colour image: homebench reads it as grey
         image = np.repeat(image[:, :, None], 3, axis=2)
     assert cv2.imwrite(str(path), image)
@@ -113,28 +140,83 @@ def write_grid(folder: Path) -> Path:
     return folder
 
 
-def route_poses() -> list[tuple[float, float, float]]:
-    """(x mm, y mm, heading deg) of the route: an arc of radius 1 m, 0 to 90 deg."""
-    poses = []
+def write_recorder_grid(folder: Path, shape: tuple[int, int]) -> Path:
+    """A grid database of ``shape`` (nx, ny) in ``folder`` as BoB's ant_world_db_creator
+    leaves one (heading 0): image k rendered at the k-th position of
+    ``GridRecorder::getPositions()`` (x outer, y inner: (k // ny, k % ny)) and recorded by
+    ``GridRecorder::record(image)``, which labels it (k % nx, k // nx) and writes the position
+    of that label; rows in recording order; ``folder``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    nx, ny = shape
+    lines = ["X [mm], Y [mm], Z [mm], Heading [degrees], Filename, Grid X, Grid Y, Grid Z"]
+    for k in range(nx * ny):
+        taken = grid_position_mm(k // ny, k % ny)
+        a, b = k % nx, k // nx
+        x, y = grid_position_mm(a, b)
+        name = grid_name(x, y)
+        _write_image(folder / name, *taken, 0.0, colour=False)
+        lines.append(f"{x:g}, {y:g}, {Z_MM:g}, 0, {name}, {a}, {b}, 0")
+    (folder / "database_entries.csv").write_text("\n".join(lines) + "\n")
+    metadata = GRID_METADATA.replace("size: [ 5, 5, 1 ]", f"size: [ {nx}, {ny}, 1 ]")
+    (folder / "database_metadata.yaml").write_text(metadata)
+    return folder
+
+
+def arc_points() -> list[tuple[float, float]]:
+    """The default route's points (mm): an arc of radius 1 m from 0 to 90 deg about the
+    arena's centre, travelled counter-clockwise."""
+    points = []
     for k in range(ROUTE_POSES):
         angle = math.radians(90.0 * k / (ROUTE_POSES - 1))
-        x, y = 1000.0 * math.cos(angle), 1000.0 * math.sin(angle)
-        poses.append((round(x, 2), round(y, 2), round(math.degrees(angle) + 90.0, 3)))
+        points.append((round(1000.0 * math.cos(angle), 2), round(1000.0 * math.sin(angle), 2)))
+    return points
+
+
+def bend_points(step_mm: float = 50.0) -> list[tuple[float, float]]:
+    """A route with straight stretches and a bend (mm), a point every ``step_mm``: east from
+    (-1200, -900) to (0, -900), a left quarter turn of radius 600 mm about (0, -300), then
+    north from (600, -300) to (600, 900)."""
+    points = [(-1200.0 + d, -900.0) for d in np.arange(0.0, 1200.0, step_mm)]
+    turn = int(round(math.pi / 2 * 600.0 / step_mm))
+    points += [
+        (600.0 * math.sin(a), -300.0 - 600.0 * math.cos(a))
+        for a in np.linspace(0.0, math.pi / 2, turn, endpoint=False)
+    ]
+    points += [(600.0, -300.0 + d) for d in np.arange(0.0, 1200.0 + 1e-9, step_mm)]
+    return [(round(float(x), 2), round(float(y), 2)) for x, y in points]
+
+
+def route_poses(
+    points: list[tuple[float, float]] | None = None,
+) -> list[tuple[float, float, float]]:
+    """(x mm, y mm, compass heading deg) of the route through ``points`` (mm; default
+    :func:`arc_points`); each image's heading is that of the segment it starts (the last
+    one's, of the segment it ends), by BoB's formula (``RouteContinuous``: ``90 +
+    atan2(start.y - end.y, end.x - start.x)``)."""
+    points = arc_points() if points is None else points
+    poses = []
+    for k, (x, y) in enumerate(points):
+        (x0, y0), (x1, y1) = points[k : k + 2] if k + 1 < len(points) else points[k - 1 : k + 1]
+        heading = (90.0 + math.degrees(math.atan2(y0 - y1, x1 - x0))) % 360.0
+        poses.append((x, y, round(heading, 3)))
     return poses
 
 
-def write_route(folder: Path) -> Path:
-    """A route database in ``folder``: BoB's route file names, no grid columns; ``folder``."""
+def write_route(
+    folder: Path,
+    points: list[tuple[float, float]] | None = None,
+    fixed_heading_deg: float | None = None,
+) -> Path:
+    """A route database through ``points`` (mm; default :func:`arc_points`) in ``folder``:
+    BoB's route file names, no grid columns; ``folder``. ``fixed_heading_deg``: every image
+    taken at that compass heading instead (a camera that does not turn with the robot)."""
     folder.mkdir(parents=True, exist_ok=True)
     lines = ["X [mm], Y [mm], Z [mm], Heading [degrees], Filename"]
-    for k, (x, y, heading) in enumerate(route_poses()):
+    for k, (x, y, heading) in enumerate(route_poses(points)):
+        heading = heading if fixed_heading_deg is None else fixed_heading_deg
         name = f"image{k + 1:05d}.png"
         _write_image(folder / name, x, y, heading, colour=False)
         lines.append(f"{x:g}, {y:g}, {Z_MM:g}, {heading:g}, {name}")
     (folder / "database_entries.csv").write_text("\n".join(lines) + "\n")
     (folder / "database_metadata.yaml").write_text(ROUTE_METADATA)
     return folder
-
-
-#: The arena's camera model, which homebench must assume for these folders.
-ARENA = GEOMETRY

@@ -10,6 +10,7 @@ panorama, so any pose can be rendered exactly, with any :class:`PanoramaGeometry
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,16 +46,30 @@ def wall_texture(wall_angle: NDArray[np.float64], z: NDArray[np.float64]) -> NDA
 
 def render_float(pose: Pose, geometry: PanoramaGeometry = GEOMETRY) -> NDArray[np.float64]:
     """Exact panorama (height, width) in grey levels seen from ``pose`` (inside the arena)."""
-    if math.hypot(pose.x, pose.y) >= ARENA_RADIUS:
-        raise ValueError("the pose must lie inside the arena")
     azimuth, elevation = geometry.bearing_grid()
-    world = pose.heading + azimuth[0]
-    ux, uy = np.cos(world), np.sin(world)
-    along = pose.x * ux + pose.y * uy
-    distance = -along + np.sqrt(along**2 - (pose.x**2 + pose.y**2) + ARENA_RADIUS**2)
-    wall_angle = np.arctan2(pose.y + distance * uy, pose.x + distance * ux)
-    z = CAMERA_HEIGHT + distance[None, :] * np.tan(elevation)
-    wall = wall_texture(np.broadcast_to(wall_angle, z.shape), z)
+    return render_rays(pose.x, pose.y, pose.heading + azimuth[0], elevation[:, 0])
+
+
+def render_rays(
+    x: float,
+    y: float,
+    world_azimuth: NDArray[np.float64],
+    elevation: NDArray[np.float64],
+    texture: Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]]
+    | None = None,
+) -> NDArray[np.float64]:
+    """Grey levels (height, width) seen from (x, y) along each column's world direction
+    ``world_azimuth`` (width,) (radians, ccw from +x) at each row's ``elevation`` (height,)
+    (radians): an image laid out by any convention, without homebench's camera models. The
+    wall carries ``texture`` (default :func:`wall_texture`)."""
+    if math.hypot(x, y) >= ARENA_RADIUS:
+        raise ValueError("the pose must lie inside the arena")
+    ux, uy = np.cos(world_azimuth), np.sin(world_azimuth)
+    along = x * ux + y * uy
+    distance = -along + np.sqrt(along**2 - (x**2 + y**2) + ARENA_RADIUS**2)
+    wall_angle = np.arctan2(y + distance * uy, x + distance * ux)
+    z = CAMERA_HEIGHT + distance[None, :] * np.tan(elevation)[:, None]
+    wall = (texture or wall_texture)(np.broadcast_to(wall_angle, z.shape), z)
     image = np.where(z > WALL_HEIGHT, CEILING_GREY, np.where(z < 0.0, FLOOR_GREY, wall))
     return np.clip(image, 0.0, 255.0)
 

@@ -1,6 +1,7 @@
-"""Brains on Board image databases: folders written by hand (tests/bob_folders.py) through
-every data command, as API objects, in a run, and generated worlds written in the format and
-read back.
+"""Brains on Board image databases: folders written by hand the way BoB's Ant World tools
+write them (tests/bob_folders.py: compass headings, columns and rows by BoB's renderer's
+formula) through every data command, as API objects, in a run, and generated worlds written in
+the format and read back.
 
 The grid's images are the analytic arena's, where warping homes exactly: with each image's own
 heading the home directions of pairs whose images face different ways come out right, with one
@@ -22,11 +23,14 @@ import numpy as np
 import pytest
 import yaml
 from bob_folders import (
-    ARENA,
     GRID_SHAPE,
     HEADING_DEG,
+    HEIGHT,
     ROUTE_POSES,
     TURNED_DEG,
+    WIDTH,
+    bob_bearings_deg,
+    bob_elevations_deg,
     grid_heading_deg,
     grid_position_mm,
     route_poses,
@@ -46,7 +50,7 @@ from homebench.data.generate import generate, manifest_for_spec
 from homebench.data.manifest import Manifest, load_manifest
 from homebench.errors import ConfigError
 from homebench.fileio import read_grey
-from homebench.geometry import angular_error, home_direction
+from homebench.geometry import angle_diff, angular_error, home_direction
 from homebench.methods import registry
 
 
@@ -80,8 +84,14 @@ def test_every_data_command_reads_a_grid_folder(grid: Path, tmp_path: Path) -> N
         verified.stdout
     )
     notes = [line for line in verified.stderr.splitlines() if "homebench: note:" in line]
-    assert len(notes) == 1 and "horizon at the middle row" in notes[0]
-    assert "+30.0 to -30.0 deg" in notes[0]
+    assert len(notes) == 3, verified.stderr
+    assert "camera 'opengl': read as BoB's Ant World renders" in notes[0]
+    assert (
+        "elevation_top_deg 60, elevation_bottom_deg -15, direction cw, zero_column 143.5"
+        in (notes[0])
+    )
+    assert "compass bearings, 0 along +y, growing clockwise" in notes[1]
+    assert "grid.order: bob-recorder" in notes[2] and "homebench data check" in notes[2]
 
     shown = _data("show", str(grid), "--out", str(tmp_path), "--at", "1", "2")
     assert shown.exit_code == 0, shown.output
@@ -105,7 +115,7 @@ def test_every_command_in_a_process_of_its_own(grid: Path, tmp_path: Path) -> No
     verified = _homebench("data", "verify", str(grid))
     assert verified.returncode == 0, verified.stderr
     assert "25 images OK" in verified.stdout and "a 5 x 5 grid 0.3 m apart" in verified.stdout
-    assert "horizon at the middle row" in verified.stderr
+    assert "read as BoB's Ant World renders" in verified.stderr
 
     shown = _homebench("data", "show", str(grid), "--out", str(tmp_path))
     assert shown.returncode == 0, shown.stderr
@@ -123,9 +133,14 @@ def test_every_command_in_a_process_of_its_own(grid: Path, tmp_path: Path) -> No
     ran = _homebench("run", str(config), "--no-progress", "--no-report")
     assert ran.returncode == 0, ran.stderr
     assert "warping" in ran.stdout
-    assert "horizon at the middle row" in ran.stdout + ran.stderr
+    assert "read as BoB's Ant World renders" in ran.stdout + ran.stderr
     pairs = (tmp_path / "run" / "tables" / "pairs.csv").read_text().splitlines()
     assert len(pairs) == 1 + 24
+
+
+def _world_deg(compass_deg: float) -> float:
+    """The ccw angle from +x (deg, in [0, 360)) of a compass bearing."""
+    return (90.0 - compass_deg) % 360.0
 
 
 def test_grid_positions_in_metres_and_each_image_its_heading(grid: Path) -> None:
@@ -133,16 +148,31 @@ def test_grid_positions_in_metres_and_each_image_its_heading(grid: Path) -> None
     assert isinstance(db, GridDatabase) and db.kinds == ("unfolded",)
     assert db.grid.shape == GRID_SHAPE and db.grid.spacing == 0.3
     assert db.grid.origin == (-0.6, -0.45)
-    assert db.geometry("unfolded") == ARENA
     for i, j in db.grid.indices():
         pose = db.pose(i, j)
         x, y = grid_position_mm(i, j)
         assert (pose.x, pose.y) == pytest.approx((x / 1000, y / 1000), abs=1e-12)
-        assert pose.heading == pytest.approx(math.radians(grid_heading_deg(i, j)))
-    assert db.manifest.heading_deg == HEADING_DEG
-    assert db.manifest.headings_deg == {f"{i}_{j}": h for (i, j), h in TURNED_DEG.items()}
+        assert pose.heading == pytest.approx(math.radians(_world_deg(grid_heading_deg(i, j))))
+    assert db.manifest.heading_deg == _world_deg(HEADING_DEG)
+    assert db.manifest.headings_deg == {
+        f"{i}_{j}": _world_deg(h) for (i, j), h in TURNED_DEG.items()
+    }
     colour = read_grey(db.path(2, 2, "unfolded"))  # written in colour, read as grey
-    assert colour.shape == (ARENA.height, ARENA.width)
+    assert colour.shape == (HEIGHT, WIDTH)
+
+
+def test_every_pixel_looks_where_bobs_renderer_points_it(grid: Path) -> None:
+    """homebench's reading of an Ant World image against BoB's formula (bob_folders.py): each
+    column's world direction from the pose and camera model homebench reads, each row's
+    elevation, for an image facing the shared heading and for one turned to 200 deg."""
+    db = resolve(grid)
+    geometry = db.geometry("unfolded")
+    rows = geometry.row_to_elevation(np.arange(HEIGHT))
+    assert np.degrees(rows) == pytest.approx(bob_elevations_deg(), abs=1e-9)
+    for i, j in [(0, 0), (4, 0)]:
+        world = db.heading(i, j) + geometry.column_to_azimuth(np.arange(WIDTH))
+        bob_world = np.radians(90.0 - bob_bearings_deg(grid_heading_deg(i, j)))
+        assert np.degrees(np.abs(angle_diff(world, bob_world))).max() < 1e-9
 
 
 def test_a_per_image_heading_turns_the_true_home_direction(grid: Path) -> None:
@@ -153,8 +183,9 @@ def test_a_per_image_heading_turns_the_true_home_direction(grid: Path) -> None:
             warping.describe(db.view(*goal, "unfolded")),
         ).angle
         c, g = db.pose(*current), db.pose(*goal)
-        assert math.degrees(angular_error(estimate, home_direction(c.xy, g.xy, c.heading))) < 2
-        shared = home_direction(c.xy, g.xy, math.radians(HEADING_DEG))
+        truth = home_direction(c.xy, g.xy, c.heading)  # within a step of warping's 5 deg grid
+        assert math.degrees(angular_error(estimate, truth)) <= 5.0 + 1e-9
+        shared = home_direction(c.xy, g.xy, math.radians(_world_deg(HEADING_DEG)))
         assert math.degrees(angular_error(estimate, shared)) > 40
 
 
@@ -176,7 +207,8 @@ def test_a_run_names_the_folder_as_its_database(grid: Path, tmp_path: Path) -> N
 def test_a_config_entry_states_the_camera(grid: Path, tmp_path: Path) -> None:
     """``images`` of a database entry replaces the assumed camera model (and its note); it is
     refused for a database that states its own."""
-    panorama = {"elevation_top_deg": 30.0, "elevation_bottom_deg": -30.0}
+    panorama = {"elevation_top_deg": 60.0, "elevation_bottom_deg": -15.0, "direction": "cw",
+                "zero_column": 143.5}  # fmt: skip
     config = {
         "name": "bob-images", "output": str(tmp_path / "run"),
         "databases": {"arena": {"name": str(grid), "images": {"unfolded": {"panorama": panorama}}}},
@@ -184,7 +216,7 @@ def test_a_config_entry_states_the_camera(grid: Path, tmp_path: Path) -> None:
     }  # fmt: skip
     result = run_config(tmp_path, config)
     assert result.exit_code == 0, result.output
-    assert "horizon at the middle row" not in result.output + result.stderr
+    assert "read as BoB's Ant World renders" not in result.output + result.stderr
 
     config["databases"] = {"arena": {"name": "synth-original", "images": config["databases"][
         "arena"]["images"]}}  # fmt: skip
@@ -196,7 +228,7 @@ def test_a_config_entry_states_the_camera(grid: Path, tmp_path: Path) -> None:
     assert refused.exit_code == 2 and "'images' is for Brains on Board folders" in refused.stderr
 
 
-def test_a_route_folder_is_verified_shown_and_data_check_says_it_needs_a_grid(
+def test_a_route_folder_is_verified_shown_and_too_short_for_data_check(
     route: Path, tmp_path: Path
 ) -> None:
     verified = _data("verify", str(route))
@@ -204,8 +236,8 @@ def test_a_route_folder_is_verified_shown_and_data_check_says_it_needs_a_grid(
     assert f"{ROUTE_POSES} images OK" in verified.stdout
     assert "a route of 10 poses, 1.57 m long" in verified.stdout
     line = _error_line(_data("check", str(route)))
-    assert str(route) in line and "not a grid; this needs a grid database" in line
-    assert "data check reads grids only (runs and data show read any posed images)" in line
+    assert str(route) in line and "needs 20 such pairs for a verdict" in line
+    assert "a route of 10 poses, 1.57 m long gives 10" in line
     shown = _data("show", str(route), "--out", str(tmp_path))
     assert shown.exit_code == 0, shown.output
     assert "a route of 10 poses, 1.57 m long, not a grid" in shown.stdout
@@ -225,9 +257,9 @@ def test_route_poses_keep_their_order_in_metres_and_radians(route: Path) -> None
     for k, (x, y, heading) in enumerate(route_poses()):
         pose = db.pose(k)
         assert (pose.x, pose.y) == pytest.approx((x / 1000, y / 1000), abs=1e-12)
-        assert pose.heading == pytest.approx(math.radians(heading))
+        assert pose.heading == pytest.approx(math.radians(_world_deg(heading)))
         assert db.path(k).name == f"image{k + 1:05d}.png"
-    assert db.view(3).image.shape == (ARENA.height, ARENA.width)
+    assert db.view(3).image.shape == (HEIGHT, WIDTH)
 
 
 def test_a_generated_world_round_trips_through_the_format(tmp_path: Path) -> None:
@@ -303,9 +335,13 @@ def test_a_manifest_database_round_trips_with_its_headings_and_camera(
     assert written.kind == kind and written.notes == () and written.name == source.name
     assert _same_model(written.camera, source.geometry(kind))
     back = written.grid_database()
-    assert back.grid == source.grid and back.manifest.headings_deg == source.manifest.headings_deg
+    assert back.grid == source.grid
+    headings = {k: h % 360.0 for k, h in source.manifest.headings_deg.items()}
+    assert back.manifest.headings_deg == pytest.approx(headings)  # read back in [0, 360)
     for i, j in source.grid.indices():
-        assert back.pose(i, j) == pytest.approx(source.pose(i, j))
+        pose, expected = back.pose(i, j), source.pose(i, j)
+        assert pose.xy == pytest.approx(expected.xy)
+        assert angle_diff(pose.heading, expected.heading) == pytest.approx(0.0, abs=1e-12)
         assert back.path(i, j, kind).read_bytes() == source.path(i, j, kind).read_bytes()
 
 
@@ -320,27 +356,32 @@ def _same_model(a: object, b: object) -> bool:
 def test_homebench_yaml_states_the_camera_and_a_config_overrides_it(
     grid: Path, tmp_path: Path
 ) -> None:
+    """A key of homebench.yaml replaces one default (the others kept, and named in the note);
+    data check finds a wrong one; a config's section replaces the file's."""
     folder = tmp_path / "g"
     shutil.copytree(grid, folder)
-    panorama = {"elevation_top_deg": 30.0, "elevation_bottom_deg": -30.0, "zero_column": 72.0}
-    own = {"name": "our-arena", "images": {"unfolded": {"panorama": panorama}}}
+    own = {"name": "our-arena", "grid": {"order": "as-written"},
+           "headings": {"zero_deg": 90, "direction": "cw"},
+           "images": {"unfolded": {"panorama": {"zero_column": 72.0}}}}  # fmt: skip
     (folder / "homebench.yaml").write_text(yaml.safe_dump(own))
     db = open_bob(folder)
-    assert db.name == "our-arena" and db.notes == () and db.camera.zero_column == 72.0
+    assert db.name == "our-arena" and db.camera.zero_column == 72.0
+    assert db.camera.direction == "cw" and len(db.notes) == 1
+    assert "elevation_top_deg 60, elevation_bottom_deg -15, direction cw;" in db.notes[0]
 
-    checked = _data("check", str(folder))  # azimuth 0 is at column 0, not 72 (90 deg)
+    checked = _data("check", str(folder))  # the heading lies at column 143.5, not 72 (89 deg)
     assert checked.exit_code == EXIT_CHECK, checked.output
     fix = re.search(
         r"set images\.unfolded\.panorama\.zero_column: ([0-9.]+) \(manifest: 72", checked.stdout
     )
-    assert fix is not None and min(float(fix[1]), 288 - float(fix[1])) < 1.5, checked.stdout
+    assert fix is not None and abs(float(fix[1]) - 143.5) < 1.5, checked.stdout
     assert "heading_deg" not in checked.stdout  # headings come from the CSV, not a manifest
 
     config = BobOverrides.model_validate({"images": {"unfolded": {"panorama": {
-        "elevation_top_deg": 30, "elevation_bottom_deg": -30}}}})  # fmt: skip
+        "elevation_top_deg": 60, "elevation_bottom_deg": -15}}}})  # fmt: skip
     database = resolve(folder, overrides=config)
-    assert database.name == "our-arena" and database.geometry("unfolded") == ARENA
-    assert find_manifest(folder, overrides=config)[0].images.unfolded.panorama.zero_column == 0
+    assert database.name == "our-arena" and database.geometry("unfolded").zero_column == 143.5
+    assert find_manifest(folder, overrides=config)[0].images.unfolded.panorama.zero_column == 143.5
     with pytest.raises(ConfigError, match="are for Brains on Board database folders"):
         resolve("synth-original", overrides=config)
     with pytest.raises(ConfigError, match="read from its own folder"):

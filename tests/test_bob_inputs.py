@@ -13,7 +13,7 @@ import cv2
 import numpy as np
 import pytest
 import yaml
-from bob_folders import ROUTE_METADATA, write_grid, write_route
+from bob_folders import ROUTE_METADATA, route_poses, write_grid, write_route
 from click.testing import CliRunner
 
 from homebench.cli import main
@@ -198,7 +198,7 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
     ),
     "no heading": (
         "route",
-        lambda f: _entries(f, ", 90, image00001.png", ", , image00001.png"),
+        lambda f: _entries(f, f", {route_poses()[0][2]:g}, image00001.png", ", , image00001.png"),
         ENTRIES + r":2: Heading \[degrees\] is empty: every image needs a finite position",
     ),
     "a video": (
@@ -219,7 +219,7 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
     "an image of the wrong size": (
         "route",
         lambda f: cv2.imwrite(str(f / "image00002.png"), np.zeros((48, 100), np.uint8)),
-        r"image00002\.png: image is 100x48 \(width x height\), expected 288x48",
+        r"image00002\.png: image is 100x48 \(width x height\), expected 288x60",
     ),
     "an image linked from outside": (
         "route",
@@ -260,8 +260,8 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
             "images: {unfolded: {panorama: {elevation_top_deg: 30, elevation_bottom_deg: -30, "
             "zero_column: 300}}}\n"
         ),
-        r"homebench\.yaml: images\.unfolded: panorama\.zero_column 300 is not a column of the "
-        r"288-wide image",
+        r"homebench\.yaml: images\.unfolded\.panorama: panorama\.zero_column 300 is not a column "
+        r"of the 288-wide image",
     ),
     "an unknown override": (
         "route",
@@ -365,7 +365,7 @@ def test_raw_images_are_unwrapped_where_bob_unwraps_them(tmp_path: Path) -> None
         lines.append(f"{k * 100}, 0, 0, 0, image{k:05d}.jpg")
     (folder / "database_entries.csv").write_text("\n".join(lines) + "\n")
     (folder / "database_metadata.yaml").write_text(
-        ROUTE_METADATA.replace("288, 48", "160, 120").replace(
+        ROUTE_METADATA.replace("288, 60", "160, 120").replace(
             "needsUnwrapping: 0", "needsUnwrapping: 1"
         )
         + "   unwrapper:\n      centre: [ 0.5, 0.45 ]\n      inner: 0.1\n      outer: 0.45\n"
@@ -378,7 +378,8 @@ def test_raw_images_are_unwrapped_where_bob_unwraps_them(tmp_path: Path) -> None
     assert db.kind == "raw" and db.camera.centre == bob.centre and db.camera.radii == bob.radii
     assert db.camera.elevations == pytest.approx(bob.elevations, abs=1e-9)
     assert db.camera.zero_angle == pytest.approx(bob.zero_angle) and db.camera.direction == "cw"
-    assert len(db.notes) == 1 and "the unwrapper gives no elevations" in db.notes[0]
+    assert len(db.notes) == 2 and "the unwrapper gives no elevations" in db.notes[0]
+    assert "compass bearings" in db.notes[1]  # and the headings, as BoB writes them
     result = CliRunner().invoke(main, ["data", "verify", str(folder)])
     assert result.exit_code == 0 and "3 images OK" in result.stdout, result.output
 

@@ -32,7 +32,8 @@ from homebench.fileio import read_grey, write_png
 #: Grid goals of the round trip (the tiny world is a 3 x 4 grid).
 GRID_GOALS = [(1, 2), (2, 0)]
 #: The hand-written route: grid positions of the world copied, and the turn (deg, ccw) of
-#: each image (its heading turned alike; the world's panoramas are 36 columns, 10 deg each).
+#: each image (its compass heading turned alike, i.e. by -turn; the world's panoramas are 36
+#: columns, 10 deg each).
 ROUTE = [(0, 0), (1, 1), (2, 2), (2, 3), (1, 3)]
 TURNS_DEG = [0, 30, -60, 90, 0]
 METHODS = [{"method": "warping"}, {"method": "alv"}]
@@ -184,7 +185,8 @@ metadata:
 def _write_route(grid_folder: Path, out: Path) -> list[tuple[float, float, float]]:
     """A hand-written BoB route in ``out`` of the images of :data:`ROUTE` of the world, turned
     by :data:`TURNS_DEG` (rolled by whole columns: azimuth grows with the column, so turning
-    ccw by d moves the scene d / 10 columns left); its poses (x mm, y mm, heading deg)."""
+    ccw by d moves the scene d / 10 columns left, and lowers the compass heading BoB records by
+    d); its poses (x mm, y mm, compass heading deg)."""
     out.mkdir()
     rows = {(int(r["Grid X"]), int(r["Grid Y"])): r for r in _entries(grid_folder)}
     lines, poses = ["X [mm], Y [mm], Z [mm], Heading [degrees], Filename"], []
@@ -195,8 +197,8 @@ def _write_route(grid_folder: Path, out: Path) -> list[tuple[float, float, float
         name = f"image{k + 1:05d}.png"
         write_png(out / name, np.roll(image, -round(turn * width / 360), axis=1))
         x, y, heading = float(row["X [mm]"]), float(row["Y [mm]"]), float(row["Heading [degrees]"])
-        poses.append((x, y, heading + turn))
-        lines.append(f"{x:g}, {y:g}, {row['Z [mm]']}, {heading + turn:g}, {name}")
+        poses.append((x, y, heading - turn))
+        lines.append(f"{x:g}, {y:g}, {row['Z [mm]']}, {heading - turn:g}, {name}")
     (out / "database_entries.csv").write_text("\n".join(lines) + "\n")
     height, width = image.shape
     metadata = ROUTE_METADATA.replace("{width}", str(width)).replace("{height}", str(height))
@@ -239,10 +241,11 @@ def test_a_hand_written_route_runs_and_reports_in_processes(
     assert set(zip(pairs.method, pairs.goal_i, pairs.current_i, strict=True)) == expected
     assert len(pairs) == len(expected) and np.isfinite(pairs["ae_rad"]).all()
     for row in pairs.itertuples():  # the true home direction, in the current image's frame
-        (x, y, heading), (gx, gy, _) = poses[row.current_i], poses[row.goal_i]
+        (x, y, compass), (gx, gy, _) = poses[row.current_i], poses[row.goal_i]
+        heading = 90.0 - compass  # ccw from +x
         truth = math.atan2(gy - y, gx - x) - math.radians(heading)
         assert math.cos(row.truth_rad - truth) == pytest.approx(1.0, abs=1e-9)
-        assert row.heading_deg == pytest.approx(heading)
+        assert row.heading_deg == pytest.approx(heading % 360.0)
     summary = pd.read_csv(tmp_path / "run" / "tables" / "summary.csv")
     assert summary["ahc"].notna().all() and summary["rr"].isna().all()
     assert (pd.read_csv(tmp_path / "run" / "tables" / "bands.csv")["pairs"].sum()) == len(pairs)
@@ -322,7 +325,7 @@ def test_a_corrected_pose_recomputes_the_jobs_that_read_it(
     }  # fmt: skip
     outputs = []
     for edit in (False, False, True):
-        if edit:  # image 3 turned by 90 deg in the listing, its file unchanged
+        if edit:  # image 3's compass heading 90 deg more in the listing (ccw: 90 less)
             lines = (folder / "database_entries.csv").read_text().splitlines()
             cells = lines[4].split(", ")
             cells[3] = f"{float(cells[3]) + 90:g}"
@@ -334,7 +337,7 @@ def test_a_corrected_pose_recomputes_the_jobs_that_read_it(
         computed = "1 job(s) computed, 0 reused" if edit or len(outputs) == 1 else "0 job(s) "
         assert computed in result.stdout, result.stdout
     before, after = (frame.set_index("current_i") for frame in outputs[1:])
-    assert after.loc[3, "heading_deg"] == pytest.approx(before.loc[3, "heading_deg"] + 90)
-    turned = math.cos(after.loc[3, "truth_rad"] - before.loc[3, "truth_rad"] + math.pi / 2)
+    assert after.loc[3, "heading_deg"] == pytest.approx((before.loc[3, "heading_deg"] - 90) % 360)
+    turned = math.cos(after.loc[3, "truth_rad"] - before.loc[3, "truth_rad"] - math.pi / 2)
     assert turned == pytest.approx(1.0)
     assert after.drop(index=3)["truth_rad"].equals(before.drop(index=3)["truth_rad"])

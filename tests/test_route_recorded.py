@@ -4,8 +4,9 @@ recorded poses, and a route run over a hand-written route folder homes with both
 (a pairwise method and a route-learning one) and writes its report.
 
 The folder is tests/bob_folders.py's: ten poses on an arc of radius 1 m (0 to 90 deg around the
-arena centre), each image rendered exactly at its pose and heading, written as BoB's recorders
-write them (mm, degrees, spaces after commas, OpenCV's metadata)."""
+arena centre), each image rendered exactly at its pose and heading and laid out as BoB's Ant
+World renders, written as BoB's recorders write them (mm, compass headings, spaces after
+commas, OpenCV's metadata)."""
 
 from __future__ import annotations
 
@@ -17,10 +18,9 @@ import cv2
 import numpy as np
 import pandas as pd
 import pytest
-from bob_folders import ROUTE_POSES, route_poses, write_grid, write_route
+from bob_folders import ROUTE_POSES, WIDTH, bob_image, route_poses, write_grid, write_route
 from click.testing import CliRunner
 from conftest import run_config
-from synthetic_panorama import GEOMETRY, render
 
 from homebench.cli import main
 from homebench.config import UnfoldConfig
@@ -42,31 +42,38 @@ def route(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _pose(k: int, turn_deg: float = 0.0) -> Pose:
-    x, y, heading = route_poses()[k]
-    return Pose(x / 1000.0, y / 1000.0, math.radians(heading + turn_deg))
+    """Recorded pose k in homebench's frame (heading ccw from +x), turned ccw by ``turn_deg``."""
+    x, y, compass = route_poses()[k]
+    return Pose(x / 1000.0, y / 1000.0, math.radians(90.0 - compass + turn_deg))
+
+
+def _image(k: int) -> np.ndarray:
+    """Recorded image k, as BoB's renderer lays it out."""
+    x, y, compass = route_poses()[k]
+    return bob_image(x, y, compass)
 
 
 def test_the_scene_shows_the_nearest_recorded_image_turned_to_the_pose(route: Path) -> None:
     """At a recorded pose the scene gives that image; turned a quarter, the image rolled by a
-    quarter of its columns (ccw turn: the world moves to lower azimuths, the left); near a
-    pose, that pose's image; beyond the sparsest spacing, no image."""
-    scene = posed_scene(open_bob(route), UnfoldConfig())
-    assert scene.grid is None and scene.geometry == GEOMETRY
+    quarter of its columns (a ccw turn: the world moves to lower azimuths, which BoB's images
+    show further right); near a pose, that pose's image; beyond the sparsest spacing, no
+    image."""
+    db = open_bob(route)
+    scene = posed_scene(db, UnfoldConfig())
+    assert scene.grid is None and scene.geometry == db.camera
     for k in (0, 4, 9):
-        recorded = render(_pose(k)).image
+        recorded = _image(k)
         assert np.array_equal(scene.render(_pose(k), 0), recorded)
         turned = scene.render(_pose(k, 90.0), 0)
-        assert np.array_equal(turned, np.roll(recorded, -GEOMETRY.width // 4, axis=1))
+        assert np.array_equal(turned, np.roll(recorded, WIDTH // 4, axis=1))
     near = _pose(3)
-    assert np.array_equal(
-        scene.render(Pose(near.x + 0.03, near.y, near.heading), 0), render(near).image
-    )
+    assert np.array_equal(scene.render(Pose(near.x + 0.03, near.y, near.heading), 0), _image(3))
     assert sparsest_spacing(scene.recorded.xy) == pytest.approx(STEP_M, abs=1e-4)
     with pytest.raises(PoseError, match="farther than its sparsest spacing"):
         scene.check_pose(Pose(0.3, 0.3, 0.0))  # 0.58 m from the arc
     wider = posed_scene(open_bob(route), UnfoldConfig(), reach_m=0.6)  # recorded_reach_m
     inside = Pose(0.5 * _pose(4).x, 0.5 * _pose(4).y, _pose(4).heading)  # 0.5 m in from image 4
-    assert np.array_equal(wider.render(inside, 0), render(_pose(4)).image)
+    assert np.array_equal(wider.render(inside, 0), _image(4))
     with pytest.raises(PoseError, match="recorded_reach_m"):
         wider.check_pose(Pose(-0.5, -0.5, 0.0))
 

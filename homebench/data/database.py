@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from homebench.data.grid_order import GridOrder
 from homebench.data.manifest import Manifest
 from homebench.errors import DataError, MissingImagesError
 from homebench.fileio import check_image, read_grey
@@ -73,11 +74,20 @@ class GridDatabase:
         turns every image; None when positions have their own."""
         return None if self.manifest.headings_deg else self.manifest.heading_deg
 
+    @property
+    def grid_order(self) -> GridOrder:
+        """How the images' labels map to their positions (``grid.order``)."""
+        return self.manifest.grid.order
+
+    #: Whether the labels may well not be the positions (see ListedGridDatabase).
+    order_in_doubt = False
+
     def candidate_paths(self, i: int, j: int, kind: str) -> list[Path]:
-        """The files that may hold the image of (i, j), in order: the pattern's name with each
-        extension."""
+        """The files that may hold the image of (i, j), in order: the pattern's name of its
+        label (``grid.order``) with each extension."""
         section = self.manifest.section(kind)
-        return [self.root / section.relative_path(n) for n in section.file_names(i, j)]
+        names = section.file_names(*self.manifest.grid.label(i, j))
+        return [self.root / section.relative_path(n) for n in names]
 
     def path(self, i: int, j: int, kind: str) -> Path:
         """The file of (i, j): the first candidate that exists, else the first one."""

@@ -26,8 +26,17 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    field_validator,
+    model_serializer,
+    model_validator,
+)
 
+from homebench.data.grid_order import GridOrder, label_of, position_shape
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
@@ -106,11 +115,17 @@ class Source(_Strict):
 
 
 class GridSection(_Strict):
-    """The capture grid: ``shape`` = [nx, ny] positions ``spacing`` metres apart."""
+    """The capture grid: labels (X, Y: a file name's, a ``headings_deg`` key) spanning
+    ``shape`` = [nx, ny], the positions ``spacing`` metres apart. ``order`` says at which
+    position each label's image was taken (:mod:`homebench.data.grid_order`): as written, the
+    label is the position; a transposed grid's positions span [ny, nx]. ``order`` is left out
+    of what is written when it is the default, so that manifests and their identities stay as
+    they were."""
 
     shape: IntPair
     spacing: float = Field(gt=0)
     origin: FloatPair = (0.0, 0.0)
+    order: GridOrder = "as-written"
 
     @field_validator("shape")
     @classmethod
@@ -124,7 +139,23 @@ class GridSection(_Strict):
             )
         return shape
 
+    @model_serializer(mode="wrap")
+    def _without_default_order(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        data = handler(self)
+        if self.order == "as-written":
+            data.pop("order", None)
+        return data
+
     def to_grid(self) -> Grid:
+        """The positions' grid."""
+        return Grid(position_shape(self.order, self.shape), self.spacing, self.origin)
+
+    def label(self, i: int, j: int) -> tuple[int, int]:
+        """The label (X, Y) of the image taken at grid position (i, j)."""
+        return label_of(self.order, (i, j), position_shape(self.order, self.shape))
+
+    def label_grid(self) -> Grid:
+        """The grid the labels span (of the positions' spacing and origin)."""
         return Grid(self.shape, self.spacing, self.origin)
 
 
@@ -456,7 +487,7 @@ class Manifest(_Strict):
 
     @model_validator(mode="after")
     def _consistent(self) -> Manifest:
-        grid = self.grid.to_grid()
+        grid = self.grid.label_grid()  # keys and file names are labels
         for key in self.headings_deg:
             try:
                 i, j = parse_grid_key(key)
@@ -478,7 +509,7 @@ class Manifest(_Strict):
 
     def _check_generator(self, spec: WorldSpec) -> None:
         """A generated set's grid, heading and cameras must be those of its spec."""
-        if not _same(self.grid.to_grid(), spec.to_grid()):
+        if not _same(self.grid.to_grid(), spec.to_grid()) or self.grid.order != "as-written":
             raise ValueError(f"grid does not match generator.spec (which gives {spec.to_grid()})")
         if not math.isclose(self.heading_deg, spec.heading_deg) or self.headings_deg:
             raise ValueError("heading_deg must be generator.spec.heading_deg, headings_deg empty")
@@ -516,7 +547,8 @@ class Manifest(_Strict):
 
     def heading(self, i: int, j: int) -> float:
         """World heading (radians, ccw from +x) of the image at grid position (i, j)."""
-        return math.radians(self.headings_deg.get(f"{i}_{j}", self.heading_deg))
+        a, b = self.grid.label(i, j)
+        return math.radians(self.headings_deg.get(f"{a}_{b}", self.heading_deg))
 
     # ------------------------------------------------------------------ YAML
 

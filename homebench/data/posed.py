@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.data.database import GridDatabase
+from homebench.data.grid_order import GridOrder
 from homebench.data.manifest import (
     SCHEMA_VERSION,
     CatadioptricSection,
@@ -35,6 +36,7 @@ from homebench.fileio import check_image, read_grey
 from homebench.geometry import (
     CatadioptricGeometry,
     Grid,
+    HeadingConvention,
     PanoramaGeometry,
     Places,
     Pose,
@@ -50,8 +52,11 @@ SHOWN = 3
 class PosedDatabase:
     """Images at poses: ``xy`` (n, 2) metres and ``heading_deg`` (n,) degrees per image,
     ``files`` (relative to ``root``) of one ``kind`` and ``size`` [width, height] with the
-    camera model ``camera``. A grid's images have ``grid_index`` (n, 2) on ``grid``; without a
-    grid the poses are a route, in recording order. ``listing`` is the file that lists the
+    camera model ``camera``. A grid's images have ``grid_index`` (n, 2) on ``grid``, their
+    positions, which ``grid_order`` mapped their labels to; ``order_in_doubt``: the labels may
+    well not be the positions (see :class:`ListedGridDatabase`). ``headings``: how the
+    recording wrote its headings (``heading_deg`` are homebench's, turned from them). Without
+    a grid the poses are a route, in recording order. ``listing`` is the file that lists the
     images, ``own_files`` the files (relative to ``root``) that describe the database, not
     images; ``notes`` say what was assumed in reading it."""
 
@@ -68,6 +73,9 @@ class PosedDatabase:
     own_files: tuple[str, ...] = ()
     grid: Grid | None = None
     grid_index: NDArray[np.int64] | None = None
+    grid_order: GridOrder = "as-written"
+    order_in_doubt: bool = False
+    headings: HeadingConvention = HeadingConvention()
     notes: tuple[str, ...] = ()
 
     def __len__(self) -> int:
@@ -76,6 +84,11 @@ class PosedDatabase:
     @property
     def kinds(self) -> tuple[ImageKind, ...]:
         return (self.kind,)
+
+    @property
+    def recorded_heading_deg(self) -> NDArray[np.float64]:
+        """The headings as the recording wrote them (its convention, ``headings``), (n,)."""
+        return self.headings.from_world_deg(self.heading_deg)
 
     def pose(self, k: int) -> Pose:
         """The pose of image ``k``: position in metres, heading in radians."""
@@ -112,13 +125,12 @@ class PosedDatabase:
         return f"a route of {len(self)} poses, {length:.2f} m long"
 
     def grid_database(self) -> ListedGridDatabase:
-        """The images as a grid database; DataError when they have no grid (``data check``
-        reads grids only; runs and ``data show`` read any posed images: :meth:`database`)."""
+        """The images as a grid database; DataError when they have no grid (runs, the data
+        commands and closed-loop runs read any posed images: :meth:`database`)."""
         if self.grid is None or self.grid_index is None:
             raise DataError(
                 f"{self.root}: {self.layout()}, not a grid; this needs a grid database (rows "
-                f"with Grid X, Grid Y, Grid Z in its {self.listing}): data check reads grids "
-                "only (runs and data show read any posed images)"
+                f"with Grid X, Grid Y, Grid Z in its {self.listing})"
             )
         return self._listed(self.grid, self.grid_index)
 
@@ -150,7 +162,10 @@ class PosedDatabase:
         files = {
             (int(i), int(j)): name for (i, j), name in zip(grid_index, self.files, strict=True)
         }
-        return ListedGridDatabase(manifest, self.root, files, self.notes, grid)
+        order = self.grid_order if self.grid is grid else "as-written"
+        return ListedGridDatabase(
+            manifest, self.root, files, self.notes, grid, order, self.order_in_doubt
+        )
 
     def _section(self) -> RawImages | UnfoldedImages:
         """The manifest section of the images (files listed, not named by its pattern)."""
@@ -171,7 +186,11 @@ class ListedGridDatabase(GridDatabase):
     """A grid database whose image files are listed per position (``files``: relative to
     ``root``), not named by its manifest's pattern; its headings are the listing's, ``notes``
     say what was assumed in reading it. ``grid``, when given, replaces the manifest's: the
-    :class:`~homebench.geometry.Places` of posed images (of the manifest's shape (n, 1))."""
+    :class:`~homebench.geometry.Places` of posed images (of the manifest's shape (n, 1)).
+    ``order``: how the listing's labels were mapped to the positions (``grid.order``, already
+    applied to ``files``); ``order_in_doubt``: nobody stated it and the labels may well not be
+    the positions (a grid of BoB's Ant World tools), so that where the images fit a mirrored
+    direction as well as another order, ``data check`` proposes the order."""
 
     def __init__(
         self,
@@ -180,12 +199,20 @@ class ListedGridDatabase(GridDatabase):
         files: Mapping[tuple[int, int], str],
         notes: tuple[str, ...] = (),
         grid: Grid | None = None,
+        order: GridOrder = "as-written",
+        order_in_doubt: bool = False,
     ):
         super().__init__(manifest, root)
         self.files = dict(files)
         self.notes = notes
+        self.order = order
+        self.order_in_doubt = order_in_doubt
         if grid is not None:  # posed places: the manifest's (n, 1) grid with their poses
             self.grid = grid
+
+    @property
+    def grid_order(self) -> GridOrder:
+        return self.order
 
     @property
     def shared_heading_deg(self) -> float | None:

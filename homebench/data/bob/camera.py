@@ -2,9 +2,12 @@
 (``homebench.yaml``, a config) say, and what is assumed where neither says.
 
 - **Unwrapped images** (``needsUnwrapping: 0``): the metadata gives neither the vertical field
-  of view nor the column of the heading. Assumed: the horizon at the middle row, rows as tall
-  as columns are wide (a 720 x 150 image spans +-37.5 deg) and azimuth 0 at column 0, growing
-  to the right (a manifest's defaults). One note says so.
+  of view nor the column of the heading. For BoB's Ant World renders (``camera.name:
+  opengl``) they are the renderer's (:mod:`.conventions`: +60 to -15 deg, the heading at
+  column W/2 - 0.5, azimuths shrinking to the right). For any other camera, assumed: the
+  horizon at the middle row, rows as tall as columns are wide (a 720 x 150 image spans
+  +-37.5 deg) and azimuth 0 at column 0, growing to the right (a manifest's defaults). Keys of
+  ``images.unfolded.panorama`` replace them one by one; one note names those assumed.
 - **Raw images** (``needsUnwrapping: 1``): BoB's ``unwrapper`` gives the centre, the inner and
   outer radius and the image angle it unwraps to column 0, not elevations. Assumed: the horizon
   halfway between the radii, pixels as tall as wide there, and the azimuths of BoB's unwrapped
@@ -20,9 +23,16 @@ from dataclasses import dataclass
 
 from pydantic import ValidationError
 
+from homebench.data.bob.conventions import ANT_WORLD_CAMERA, ant_world_panorama
 from homebench.data.bob.metadata import Metadata, Unwrapper
-from homebench.data.bob.overrides import BobOverrides, ImageOverrides
-from homebench.data.manifest import KINDS, CatadioptricSection, RawImages, UnfoldedImages
+from homebench.data.bob.overrides import BobOverrides, ImageOverrides, PanoramaOverride
+from homebench.data.manifest import (
+    KINDS,
+    CatadioptricSection,
+    PanoramaSection,
+    RawImages,
+    UnfoldedImages,
+)
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry, wrap_angle
 from homebench.views import ImageKind
@@ -65,14 +75,6 @@ def camera_model(
             f"{metadata_name} does not say whether the images need unwrapping "
             "(needsUnwrapping): read as unwrapped panoramas"
         )
-    if images.unfolded is not None:
-        panorama = images.unfolded.panorama
-        where = f"{overrides_name}: images.unfolded"
-        return Camera(
-            "unfolded",
-            _checked(lambda: UnfoldedImages(size=size, panorama=panorama), where),
-            tuple(notes),
-        )
     if images.raw is not None:
         raw = images.raw.catadioptric
         where = f"{overrides_name}: images.raw"
@@ -83,8 +85,71 @@ def camera_model(
         assert metadata is not None
         geometry, note = _unwrapped_by_bob(metadata, size, metadata_name, overrides_name)
         return Camera("raw", geometry, (*notes, note))
-    geometry, note = _assumed_panorama(size, metadata_name, overrides_name)
-    return Camera("unfolded", geometry, (*notes, note))
+    given_panorama = images.unfolded.panorama if images.unfolded is not None else None
+    geometry, note = _panorama(metadata, given_panorama, size, metadata_name, overrides_name)
+    return Camera("unfolded", geometry, (*notes, note) if note else tuple(notes))
+
+
+def _panorama(
+    metadata: Metadata | None,
+    given: PanoramaOverride | None,
+    size: tuple[int, int],
+    metadata_name: str,
+    overrides_name: str,
+) -> tuple[PanoramaGeometry, str | None]:
+    """The camera model of unwrapped images: the keys ``given`` (images.unfolded.panorama)
+    over the database's defaults, and the note naming the defaults used (None: none)."""
+    stated = given.model_dump(exclude_none=True) if given is not None else {}
+    missing = [key for key in PanoramaOverride.model_fields if key not in stated]
+    camera = metadata.camera.name if metadata is not None and metadata.camera else None
+    ant_world = camera == ANT_WORLD_CAMERA
+    default = ant_world_panorama(size) if ant_world else _square_panorama(size)
+    if default is None and {"elevation_top_deg", "elevation_bottom_deg"} & set(missing):
+        width, height = size
+        raise DataError(
+            f"{metadata_name}: unwrapped images of {width} x {height} px are too tall for a "
+            "panorama of square pixels (over 180 deg): give images.unfolded.panorama "
+            f"(elevation_top_deg, elevation_bottom_deg) in {overrides_name}"
+        )
+    base = (
+        PanoramaSection.from_geometry(default).model_dump()
+        if default is not None
+        else {"direction": "ccw", "zero_column": 0.0}
+    )
+    where = f"{overrides_name}: images.unfolded.panorama"
+    panorama = _checked(
+        lambda: UnfoldedImages(size=size, panorama=(given or PanoramaOverride()).over(base)),
+        where,
+    )
+    assert isinstance(panorama, PanoramaGeometry)
+    if not missing:
+        return panorama, None
+    assumed = ", ".join(f"{key} {_value(base[key])}" for key in missing)
+    source = (
+        f"camera {ANT_WORLD_CAMERA!r}: read as BoB's Ant World renders (rows from +60 to -15 "
+        "deg, the heading between the middle two columns, bearings growing to the right; "
+        "homebench/data/bob/conventions.py)"
+        if ant_world
+        else "gives no vertical field of view or column of the heading: assumed the horizon "
+        "at the middle row, rows as tall as columns are wide and the heading at column 0, "
+        "azimuths growing to the right"
+    )
+    return panorama, (
+        f"{metadata_name}: {source}: images.unfolded.panorama {assumed}; "
+        f"{overrides_name} sets them (`homebench data check` measures them)"
+    )
+
+
+def _square_panorama(size: tuple[int, int]) -> PanoramaGeometry | None:
+    """The panorama of ``size`` with the horizon at the middle row, square pixels and the
+    heading at column 0, azimuths growing to the right; None when over 180 deg tall."""
+    width, height = size
+    half = math.pi * height / width
+    return PanoramaGeometry(width, height, half, -half) if half <= math.pi / 2 else None
+
+
+def _value(value: object) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def _checked(section: Callable[[], RawImages | UnfoldedImages], where: str) -> Model:
@@ -132,29 +197,6 @@ def _unwrapped_by_bob(
         "sets them"
     )
     return geometry, note
-
-
-def _assumed_panorama(
-    size: tuple[int, int], metadata_name: str, overrides_name: str
-) -> tuple[PanoramaGeometry, str]:
-    """The panorama of ``size`` with the horizon at the middle row and square pixels, and the
-    note that says so."""
-    width, height = size
-    half = math.pi * height / width
-    if half > math.pi / 2:
-        raise DataError(
-            f"{metadata_name}: unwrapped images of {width} x {height} px are too tall for a "
-            f"panorama of square pixels (over 180 deg): give images.unfolded.panorama in "
-            f"{overrides_name}"
-        )
-    degrees = math.degrees(half)
-    note = (
-        f"{metadata_name} gives no vertical field of view: assumed the horizon at the middle "
-        f"row, rows as tall as columns are wide ({degrees:+.1f} to {-degrees:+.1f} deg) and "
-        "azimuth 0 (the heading) at column 0, growing to the right; images.unfolded.panorama "
-        f"in {overrides_name} sets them (`homebench data check` measures them on a grid)"
-    )
-    return PanoramaGeometry(width, height, half, -half), note
 
 
 def from_unwrapper(unwrapper: Unwrapper, size: tuple[int, int]) -> CatadioptricGeometry:

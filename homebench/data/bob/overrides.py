@@ -2,11 +2,13 @@
 
 An optional ``homebench.yaml`` in the database folder, or the same keys given as a
 :class:`BobOverrides` (a run config's database entry), states the camera model where the
-metadata gives none (unwrapped images: no vertical field of view; raw images: no elevations)
-and the database's name::
+metadata gives none (unwrapped images: no vertical field of view; raw images: no elevations),
+how the headings are written, the order of a grid's labels and the database's name::
 
     name: antworld-grid                  # default: the folder's name
     description: "Ant World, 1 m grid"
+    headings: {zero_deg: 90, direction: cw}   # BoB's compass bearings (the default)
+    grid: {order: bob-recorder}          # as-written (default) | transposed | bob-recorder
     images:
       unfolded:                          # images that need no unwrapping
         panorama: {elevation_top_deg: 60, elevation_bottom_deg: -15, direction: ccw,
@@ -15,18 +17,24 @@ and the database's name::
       #   catadioptric: {centre: [...], radii: [...], elevations_deg: [...], direction: cw,
       #                  zero_angle_deg: -90}
 
-The sections are the manifest's (``homebench/data/manifest.py``), so ``homebench data check``'s
-corrections (``set images.unfolded.panorama.zero_column: ...``) read as keys of this file. A
-config's keys replace the file's, top-level key by key.
+The image sections are the manifest's (``homebench/data/manifest.py``), so ``homebench data
+check``'s corrections (``set images.unfolded.panorama.zero_column: ...``) read as keys of this
+file; keys a section leaves out keep the database's defaults (:mod:`.camera`), not the
+manifest's. ``grid.order`` is the manifest's key (:mod:`homebench.data.grid_order`). A config's
+keys replace the file's, top-level key by key.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field
 
+from homebench.data.grid_order import GridOrder
 from homebench.data.manifest import CatadioptricSection, Name, PanoramaSection
+from homebench.geometry import Direction, HeadingConvention
 from homebench.yamlio import load_model
 
 
@@ -34,8 +42,23 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
+class PanoramaOverride(_Strict):
+    """A manifest's panorama section whose keys may be left out: those keep the database's
+    defaults (:func:`over`)."""
+
+    elevation_top_deg: float | None = None
+    elevation_bottom_deg: float | None = None
+    direction: Direction | None = None
+    zero_column: float | None = None
+
+    def over(self, base: Mapping[str, Any]) -> PanoramaSection:
+        """The section of the keys ``base`` gives, those given here replacing them;
+        ValidationError as a manifest's."""
+        return PanoramaSection.model_validate({**base, **self.model_dump(exclude_none=True)})
+
+
 class UnfoldedOverride(_Strict):
-    panorama: PanoramaSection
+    panorama: PanoramaOverride
 
 
 class RawOverride(_Strict):
@@ -49,11 +72,35 @@ class ImageOverrides(_Strict):
     unfolded: UnfoldedOverride | None = None
 
 
+class HeadingsOverride(_Strict):
+    """How ``Heading [degrees]`` is written: ``zero_deg`` is the world direction (degrees, ccw
+    from +x) of a heading of 0, ``direction`` the way headings grow seen from above. A key
+    left out keeps the default (:data:`~homebench.data.bob.conventions.BOB_HEADINGS`)."""
+
+    zero_deg: Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False)] | None = None
+    direction: Direction | None = None
+
+    def over(self, base: HeadingConvention) -> HeadingConvention:
+        """``base`` with the keys given here replaced."""
+        return HeadingConvention(
+            base.zero_deg if self.zero_deg is None else self.zero_deg,
+            base.direction if self.direction is None else self.direction,
+        )
+
+
+class GridOverride(_Strict):
+    """How a grid's labels (Grid X, Grid Y) map to the positions its images were taken at."""
+
+    order: GridOrder = "as-written"
+
+
 class BobOverrides(_Strict):
     """``homebench.yaml`` of a Brains on Board database: see the module docstring."""
 
     name: Name | None = None
     description: str | None = None
+    headings: HeadingsOverride | None = None
+    grid: GridOverride | None = None
     images: ImageOverrides | None = None
 
     def over(self, base: BobOverrides | None) -> BobOverrides:

@@ -1,12 +1,16 @@
 """Open a Brains on Board image database: a folder read as a database of posed images.
 
-Positions become metres (mm / 1000; Z is not used), headings stay the recorded ones (degrees,
-counter-clockwise from +x, as BoB's robots and Ant World agents turn), each image's own. A grid
-database (``type: grid`` in the metadata, or Grid columns and no metadata) maps Grid X, Grid Y
-onto homebench's grid index (i, j): every index of the grid it spans once, one Grid Z layer,
-the positions on a regular grid (:func:`homebench.data.grid_fit.fit_grid`). A route database
-keeps its poses in file order. No file it reads may lie outside the folder through a symbolic
-link (a link inside it, or a folder that is one, is fine).
+Positions become metres (mm / 1000; Z is not used). Headings are read as BoB writes them,
+compass bearings (0 along +y, growing clockwise: :mod:`.conventions`), and become homebench's
+(degrees ccw from +x, in [0, 360): 90 - h); ``headings`` in ``homebench.yaml`` states another
+convention. Each image keeps its own. A grid database (``type: grid`` in the metadata, or Grid
+columns and no metadata) maps Grid X, Grid Y onto homebench's grid index (i, j): every index
+of the grid it spans once, one Grid Z layer, the positions on a regular grid
+(:func:`homebench.data.grid_fit.fit_grid`); ``grid.order`` says which position each label was
+taken at (:mod:`homebench.data.grid_order`: the positions of a grid read in another order
+than as written are those of the grid the labels fit). A route database keeps its poses in
+file order. No file it reads may lie outside the folder through a symbolic link (a link
+inside it, or a folder that is one, is fine).
 """
 
 from __future__ import annotations
@@ -20,11 +24,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.data.bob.camera import camera_model
+from homebench.data.bob.conventions import ANT_WORLD_CAMERA, BOB_HEADINGS
+from homebench.data.bob.entries import HEADING as HEADING_COLUMN
 from homebench.data.bob.entries import Entries, read_entries
 from homebench.data.bob.layout import DESCRIPTION_FILES, ENTRIES_NAME, METADATA_NAME, OVERRIDES_NAME
 from homebench.data.bob.metadata import Metadata, read_metadata
-from homebench.data.bob.overrides import BobOverrides, read_overrides
+from homebench.data.bob.overrides import BobOverrides, HeadingsOverride, read_overrides
 from homebench.data.grid_fit import fit_grid
+from homebench.data.grid_order import GridOrder, position_of, position_shape
 from homebench.data.manifest import MAX_GRID_POSITIONS
 from homebench.data.posed import PosedDatabase, listed
 from homebench.errors import DataError
@@ -75,8 +82,19 @@ def _open(folder: Path, stamps: tuple[Stamp, ...], overrides: BobOverrides | Non
     size = (metadata.resolution if metadata else None) or _size(folder / entries.files[0])
     overrides_name = str(folder / OVERRIDES_NAME)
     camera = camera_model(metadata, merged, size, str(folder / METADATA_NAME), overrides_name)
-    xy = _read_only(entries.xyz_mm[:, :2] / 1000.0)
-    grid, index = _grid(entries, xy) if is_grid else (None, None)
+    xy = entries.xyz_mm[:, :2] / 1000.0
+    headings = (merged.headings or HeadingsOverride()).over(BOB_HEADINGS)
+    notes = list(camera.notes)
+    if merged.headings is None or None in (merged.headings.zero_deg, merged.headings.direction):
+        notes.append(_headings_note(overrides_name))
+    grid, index, in_doubt = None, None, False
+    order: GridOrder = "as-written"
+    if is_grid:
+        order = merged.grid.order if merged.grid is not None else "as-written"
+        grid, index, xy = _grid(entries, xy, order)
+        in_doubt = merged.grid is None and metadata is not None and _is_ant_world(metadata)
+        if in_doubt:
+            notes.append(_order_note(overrides_name))
     return PosedDatabase(
         name=merged.name or _name(folder),
         description=merged.description
@@ -85,14 +103,41 @@ def _open(folder: Path, stamps: tuple[Stamp, ...], overrides: BobOverrides | Non
         kind=camera.kind,
         size=size,
         camera=camera.geometry,
-        xy=xy,
-        heading_deg=_read_only(entries.heading_deg),
+        xy=_read_only(xy),
+        heading_deg=_read_only(np.mod(headings.to_world_deg(entries.heading_deg), 360.0)),
         files=entries.files,
         listing=ENTRIES_NAME,
         own_files=tuple(name for name in DESCRIPTION_FILES if (folder / name).exists()),
         grid=grid,
         grid_index=index,
-        notes=camera.notes,
+        grid_order=order,
+        order_in_doubt=in_doubt,
+        headings=headings,
+        notes=tuple(notes),
+    )
+
+
+def _headings_note(overrides_name: str) -> str:
+    """The note saying how headings were read, where homebench.yaml does not say."""
+    return (
+        f"{HEADING_COLUMN} read as BoB writes it: compass bearings, 0 along +y, growing "
+        f"clockwise (headings: {{zero_deg: {BOB_HEADINGS.zero_deg:g}, direction: "
+        f"{BOB_HEADINGS.direction}}}); {overrides_name} sets them"
+    )
+
+
+def _is_ant_world(metadata: Metadata) -> bool:
+    return metadata.camera is not None and metadata.camera.name == ANT_WORLD_CAMERA
+
+
+def _order_note(overrides_name: str) -> str:
+    """The note on the labels of a grid from BoB's Ant World tools."""
+    return (
+        "grid labels read as written (grid: {order: as-written}); BoB's grid recorder, which "
+        "ant_world_db_creator uses, labels the images it renders in another order than it "
+        "visits the positions (GridRecorder::getPositions and ::record): transposed on a "
+        "square grid (grid.order: bob-recorder); `homebench data check` says which order the "
+        f"images show, {overrides_name} sets it"
     )
 
 
@@ -140,8 +185,11 @@ def _size(first: Path) -> tuple[int, int]:
     return header.width, header.height
 
 
-def _grid(entries: Entries, xy: NDArray[np.float64]) -> tuple[Grid, NDArray[np.int64]]:
-    """The grid of a grid database and each image's index (i, j), shape (n, 2)."""
+def _grid(
+    entries: Entries, xy: NDArray[np.float64], order: GridOrder
+) -> tuple[Grid, NDArray[np.int64], NDArray[np.float64]]:
+    """The grid of a grid database, each image's index (i, j) on it, shape (n, 2), and its
+    position, (n, 2) metres: as written, or where ``order`` puts the image's label."""
     assert entries.grid is not None
     layers = np.unique(entries.grid[:, 2])
     if layers.size > 1:
@@ -171,7 +219,13 @@ def _grid(entries: Entries, xy: NDArray[np.float64]) -> tuple[Grid, NDArray[np.i
             f"{entries.path}: no image of grid position(s) {listed(missing)} of the {nx} x {ny} "
             "grid that Grid X, Grid Y span"
         )
-    return fit_grid(xy, ij, str(entries.path), entries.where), ij
+    labels = fit_grid(xy, ij, str(entries.path), entries.where)
+    if order == "as-written":
+        return labels, ij, xy
+    shape = position_shape(order, labels.shape)
+    index = np.array([position_of(order, (i, j), shape) for i, j in ij.tolist()], np.int64)
+    grid = Grid(shape, labels.spacing, labels.origin)
+    return grid, _read_only(index), grid.position(index[:, 0], index[:, 1])
 
 
 def _read_only(array: NDArray) -> NDArray:

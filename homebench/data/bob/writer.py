@@ -3,10 +3,12 @@
 The folder holds what BoB's ImageDatabase (and navbench) reads: the images under BoB's grid
 file names (``image_+000300_+000600_+001000.png``: the position in mm),
 ``database_entries.csv`` (``X [mm], Y [mm], Z [mm], Heading [degrees], Filename, Grid X, Grid Y,
-Grid Z``, x fastest, as BoB's grid recorder writes it) and ``database_metadata.yaml`` (OpenCV
-FileStorage YAML: type, grid, camera resolution, needsUnwrapping), with ``homebench.yaml``
-holding the exact camera model, so that homebench reads back what it wrote: the same image
-bytes, poses and camera model. One image kind is written: the unfolded panoramas, or the raw
+Grid Z``, x fastest, as BoB's grid recorder writes it; headings as BoB writes them, compass
+bearings: :mod:`.conventions`) and ``database_metadata.yaml`` (OpenCV FileStorage YAML: type,
+grid, camera resolution, needsUnwrapping), with ``homebench.yaml`` holding the exact camera
+model and the headings' convention, so that homebench reads back what it wrote: the same
+image bytes, poses and camera model. Every image is labelled with the position it was taken
+at (``grid.order: as-written``). One image kind is written: the unfolded panoramas, or the raw
 images of a database that has none. Z is the camera height of a generated world, else 0.
 
 The folder is built under a temporary name and renamed into place; an existing folder that is
@@ -20,6 +22,7 @@ from pathlib import Path
 
 import yaml
 
+from homebench.data.bob.conventions import BOB_HEADINGS
 from homebench.data.bob.layout import ENTRIES_NAME, METADATA_NAME, OVERRIDES_NAME
 from homebench.data.bob.overrides import BobOverrides
 from homebench.data.database import GridDatabase
@@ -55,7 +58,8 @@ def write_bob(db: GridDatabase, out: Path) -> Path:
                         "grid images by their position in whole millimetres"
                     )
                 shutil.copyfile(source, folder / name)
-                heading = db.manifest.headings_deg.get(grid_key(i, j), db.manifest.heading_deg)
+                world = db.manifest.headings_deg.get(grid_key(i, j), db.manifest.heading_deg)
+                heading = float(BOB_HEADINGS.from_world_deg(world)) % 360.0
                 values = [number(v) for v in (x, y, z_mm, heading)]
                 rows.append(", ".join([*values, name, str(i), str(j), "0"]))
         (folder / ENTRIES_NAME).write_text("\n".join(rows) + "\n", encoding="utf-8")
@@ -90,14 +94,22 @@ def _metadata(db: GridDatabase, kind: str, z_mm: float) -> str:
 
 
 def _overrides(db: GridDatabase, kind: str) -> str:
-    """``homebench.yaml``: the database's name, description and exact camera model."""
+    """``homebench.yaml``: the database's name, description, the headings' convention, the
+    labels' order and the exact camera model."""
     geometry = db.geometry(kind)
     if isinstance(geometry, CatadioptricGeometry):
         images = {"raw": {"catadioptric": CatadioptricSection.from_geometry(geometry)}}
     else:
-        images = {"unfolded": {"panorama": PanoramaSection.from_geometry(geometry)}}
+        images = {"unfolded": {"panorama": PanoramaSection.from_geometry(geometry).model_dump()}}
+    headings = {"zero_deg": BOB_HEADINGS.zero_deg, "direction": BOB_HEADINGS.direction}
     overrides = BobOverrides.model_validate(
-        {"name": db.name, "description": db.manifest.description, "images": images}
+        {
+            "name": db.name,
+            "description": db.manifest.description,
+            "headings": headings,
+            "grid": {"order": "as-written"},
+            "images": images,
+        }
     )
     data = overrides.model_dump(mode="json", exclude_none=True)
     return yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=100)
