@@ -185,6 +185,7 @@ def data_verify(database: str, path: Path | None) -> None:
 def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] | None) -> None:
     """Write a contact sheet PNG of DATABASE (the grid, one raw + unfolded pair; of posed
     images, a Brains on Board route say, a map of the poses beside one image)."""
+    from homebench.data.check.travel import route_warnings
     from homebench.report.contact_sheet import write_contact_sheet, write_pose_sheet
 
     opened = _open_database(database, path)
@@ -195,6 +196,8 @@ def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] |
     db.path(*sample, db.kinds[0])  # DataError naming the grid when --at is outside it
     out.mkdir(parents=True, exist_ok=True)
     if posed is not None:
+        for warning in route_warnings(posed):
+            click.echo(f"homebench: warning: {opened.label}: {warning}", err=True)
         written = write_pose_sheet(db, out / f"{db.name}_poses.png", sample[0], posed.layout())
         click.echo(f"{opened.label}: {posed.layout()}, not a grid; {written}")
         return
@@ -207,16 +210,31 @@ def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] |
 @click.option("--path", type=click.Path(path_type=Path), help="Folder of a real set's copy.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the pairs homed.")
 def data_check(database: str, path: Path | None, seed: int) -> None:
-    """Estimate DATABASE's conventions from its images (azimuth direction and zero, horizon,
-    a raw image's centre) by homing and flow between grid neighbours, and hold them against
-    its manifest; exit 3, with the corrections to make, where they disagree."""
-    from homebench.data.check import METHOD, check_database, report_lines
+    """Estimate DATABASE's conventions from its images (a grid's label order, a route's
+    headings, azimuth direction and zero, horizon, a raw image's centre) by homing and flow
+    between grid neighbours or nearby posed images, and hold them against its manifest (a
+    Brains on Board folder's homebench.yaml); exit 3, with the corrections to make, where they
+    disagree."""
+    from homebench.data.check import (
+        METHOD,
+        check_database,
+        check_posed,
+        posed_report_lines,
+        report_lines,
+    )
 
     opened = _open_database(database, path)
-    checks = check_database(opened.database, seed)
-    click.echo(f"{opened.label}: images in {opened.database.root}")
-    click.echo("\n".join(report_lines(checks, METHOD)))
-    if not all(check.agrees for check in checks):
+    if opened.grid is None:
+        posed = check_posed(opened.posed, seed)
+        click.echo(f"{opened.label}: {opened.posed.layout()}, images in {opened.posed.root}")
+        click.echo("\n".join(posed_report_lines(posed, METHOD)))
+        agrees = posed.agrees
+    else:
+        checks = check_database(opened.grid, seed)
+        click.echo(f"{opened.label}: images in {opened.grid.root}")
+        click.echo("\n".join(report_lines(checks, METHOD)))
+        agrees = all(check.agrees for check in checks)
+    if not agrees:
         sys.exit(EXIT_CHECK)
 
 

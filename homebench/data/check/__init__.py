@@ -44,6 +44,16 @@ of CPU, 20-25 s of wall time on 2 cores that other work kept at a load of 7-10.
 
 from homebench.data.check.checker import METHOD, check_database
 from homebench.data.check.findings import Finding, KindCheck
-from homebench.data.check.text import report_lines
+from homebench.data.check.posed import PosedCheck, check_posed
+from homebench.data.check.text import posed_report_lines, report_lines
 
-__all__ = ["METHOD", "Finding", "KindCheck", "check_database", "report_lines"]
+__all__ = [
+    "METHOD",
+    "Finding",
+    "KindCheck",
+    "PosedCheck",
+    "check_database",
+    "check_posed",
+    "posed_report_lines",
+    "report_lines",
+]

@@ -1,7 +1,8 @@
 """Azimuth direction and offset of a database's images, from homing between grid neighbours.
 
 The grid gives every neighbour pair's true home direction in the manifest's robot frame
-(``home_direction`` of the two positions and the current image's heading). A homing method
+(``home_direction`` of the two positions and the current image's heading; each reading of the
+grid's labels its own: :mod:`.readings`). A homing method
 run on views that carry an azimuth model answers in that model's frame, so the residuals
 ``truth - estimate`` are, up to the method's errors:
 
@@ -26,9 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.data.check.pairs import GridIndex, NeighbourPair
-from homebench.data.database import GridDatabase
-from homebench.geometry import angle_diff, circular_mean, home_direction
+from homebench.data.check.pairs import GridIndex, Pair
+from homebench.geometry import angle_diff, circular_mean
 from homebench.views import View
 
 FloatArray = NDArray[np.float64]
@@ -55,17 +55,8 @@ class AzimuthFit:
     n_pairs: int
 
 
-def true_directions(db: GridDatabase, pairs: Sequence[NeighbourPair]) -> FloatArray:
-    """Home direction of each pair in its current image's robot frame (manifest heading),
-    shape (n_pairs,), radians."""
-    current = db.grid.position(*np.array([p.current for p in pairs]).T)
-    goal = db.grid.position(*np.array([p.goal for p in pairs]).T)
-    headings = [db.heading(*p.current) for p in pairs]
-    return home_direction(current, goal, np.array(headings))
-
-
 def home_estimates(
-    method: Any, views: Mapping[GridIndex, View], pairs: Sequence[NeighbourPair]
+    method: Any, views: Mapping[GridIndex, View], pairs: Sequence[Pair]
 ) -> FloatArray:
     """``method``'s home direction of each pair, shape (n_pairs,), radians; NaN where the
     method gives none. Each view is described once."""
@@ -82,9 +73,7 @@ def robust_offset(residuals: FloatArray) -> float:
     return circular_mean(residuals[np.abs(angle_diff(residuals, median)) <= INLIER_RADIUS])
 
 
-def fit_offset(
-    truths: FloatArray, estimates: FloatArray, pairs: Sequence[NeighbourPair]
-) -> AzimuthFit:
+def fit_offset(truths: FloatArray, estimates: FloatArray, pairs: Sequence[Pair]) -> AzimuthFit:
     """The azimuth offset that best explains ``truths - estimates`` (shapes (n_pairs,),
     radians; NaN estimates are pairs without one): see the module docstring."""
     homed = np.isfinite(estimates)

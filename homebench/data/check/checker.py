@@ -4,26 +4,28 @@ against the manifest (see :mod:`homebench.data.check` for what is estimated how)
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.data.check.azimuth import AzimuthFit, fit_offset, home_estimates, true_directions
-from homebench.data.check.findings import KindCheck, compare, conclusive
+from homebench.data.check.azimuth import home_estimates
+from homebench.data.check.findings import ORDER_KEY, KindCheck, compare
 from homebench.data.check.horizon import flow_profile, zero_crossing
 from homebench.data.check.pairs import (
     GridIndex,
     NeighbourPair,
+    Pair,
     first_per_axis,
     neighbour_pairs,
 )
+from homebench.data.check.readings import Choice, Reading, choose, fit_readings, order_truths
 from homebench.data.check.rim import Circle, mirror_rim
 from homebench.data.database import GridDatabase
 from homebench.errors import DataError
-from homebench.geometry import CatadioptricGeometry, PanoramaGeometry, other_direction
+from homebench.geometry import CatadioptricGeometry, Direction, PanoramaGeometry, other_direction
 from homebench.imaging.projection import unfold
 from homebench.methods import registry
 from homebench.views import ImageKind, View
@@ -69,44 +71,69 @@ def check_database(db: GridDatabase, seed: int = 0) -> list[KindCheck]:
 def _check_kind(
     db: GridDatabase, kind: ImageKind, pairs: list[NeighbourPair], seed: int
 ) -> KindCheck:
-    """The images' model of ``kind``: centre (raw) from the rim, then direction and azimuth
-    offset from neighbour homing, then the horizon from neighbour flow."""
+    """The images' model of ``kind``: centre (raw) from the rim, then the grid's order,
+    direction and azimuth offset from neighbour homing, then the horizon from neighbour
+    flow."""
     needed = sorted({ij for p in pairs for ij in (p.current, p.goal)})
     images = {ij: db.image(*ij, kind) for ij in needed}
     manifest = db.geometry(kind)
-    rim = _rim(images, seed) if isinstance(manifest, CatadioptricGeometry) else None
-    start = replace(manifest, centre=rim.centre) if rim is not None else manifest
-    truths = true_directions(db, pairs)
-    fits = _azimuth_fits(start, images, pairs, truths)
-    best = min(fits, key=lambda d: fits[d].mean_ae)
-    fitted = replace(start, direction=best).turned(fits[best].offset)
-    if conclusive(fits):  # the flow's signs need the images' azimuths
-        some = first_per_axis(pairs, FLOW_PAIRS_PER_AXIS)
-        fitted = _with_horizon(fitted, images, [pairs[k] for k in some], truths[some])
-    return compare(kind, manifest, fitted, fits, rim, db.shared_heading_deg)
+    start, rim = images_rim(manifest, images, seed)
+    truths = order_truths(db, pairs)
+    fits = fit_readings(ORDER_KEY, truths, estimates(start, images, pairs), pairs)
+    stated = Reading(ORDER_KEY, db.grid_order, manifest.direction)
+    choice = choose(fits, stated, "value" if db.order_in_doubt else "direction")
+    some = first_per_axis(pairs, FLOW_PAIRS_PER_AXIS)
+    fitted = fitted_model(start, images, choice, stated, [pairs[k] for k in some],
+                          {value: truth[some] for value, truth in truths.items()})  # fmt: skip
+    shared = db.shared_heading_deg
+    heading = ("heading_deg", shared) if shared is not None else None
+    return compare(kind, manifest, fitted, choice, stated, rim, heading)
 
 
-def _rim(images: Images, seed: int) -> Circle | None:
-    """The mirror rim in :data:`RIM_IMAGES` of the raw ``images``, drawn with ``seed``."""
+def fitted_model(
+    start: Model,
+    images: Images,
+    choice: Choice,
+    stated: Reading,
+    flow_pairs: Sequence[Pair],
+    flow_truths: Mapping[str, FloatArray],
+) -> Model:
+    """``start`` with the direction and azimuth zero of the reading the images support, and,
+    where they support one, the horizon where the flow between ``flow_pairs`` puts it
+    (``flow_truths``: their true home directions under each value of the reading's key)."""
+    reading = choice.reading or stated
+    fitted = replace(start, direction=reading.direction).turned(choice.fits[reading].offset)
+    if choice.reading is None:  # the flow's signs need the images' azimuths
+        return fitted
+    return with_horizon(fitted, images, flow_pairs, flow_truths[reading.value])
+
+
+def images_rim(model: Model, images: Images, seed: int) -> tuple[Model, Circle | None]:
+    """``model`` with the centre of the mirror rim in :data:`RIM_IMAGES` of the raw ``images``
+    (drawn with ``seed``) where one is found, and the rim (None: panoramas, or none found)."""
+    if not isinstance(model, CatadioptricGeometry):
+        return model, None
     keys = list(images)
     picked = np.random.default_rng(seed).permutation(len(keys))[:RIM_IMAGES]
-    return mirror_rim([images[keys[k]] for k in picked])
+    rim = mirror_rim([images[keys[k]] for k in picked])
+    return (replace(model, centre=rim.centre) if rim is not None else model), rim
 
 
-def _azimuth_fits(
-    model: Model, images: Images, pairs: list[NeighbourPair], truths: FloatArray
-) -> dict[str, AzimuthFit]:
-    """Neighbour homing under ``model``'s direction, then under the other; by direction."""
+def estimates(
+    model: Model, images: Images, pairs: list[NeighbourPair]
+) -> dict[Direction, FloatArray]:
+    """Neighbour homing under ``model``'s direction, then under the other: each pair's
+    estimate (radians, NaN: none), by direction."""
     low, high = _elevation_range(model)
     bottom, top = max(BAND_DEG[0], low + 0.5), min(BAND_DEG[1], high - 0.5)
     rows = max(2, round((top - bottom) / BAND_ROW_DEG))
     method = registry.create(METHOD, band_bottom_deg=bottom, band_top_deg=top, n_rows=rows)
     band = PanoramaGeometry.square_pixels(BAND_COLUMNS, math.radians(high), math.radians(low))
-    fits = {}
+    estimates = {}
     for direction in (model.direction, other_direction(model.direction)):
         views = _views(replace(model, direction=direction), images, band)
-        fits[direction] = fit_offset(truths, home_estimates(method, views, pairs), pairs)
-    return fits
+        estimates[direction] = home_estimates(method, views, pairs)
+    return estimates
 
 
 def _elevation_range(model: Model) -> tuple[float, float]:
@@ -124,9 +151,7 @@ def _views(model: Model, images: Images, band: PanoramaGeometry) -> dict[GridInd
     return {ij: View(unfold(image, model, band), band) for ij, image in images.items()}
 
 
-def _with_horizon(
-    model: Model, images: Images, pairs: list[NeighbourPair], motions: FloatArray
-) -> Model:
+def with_horizon(model: Model, images: Images, pairs: Sequence[Pair], motions: FloatArray) -> Model:
     """``model`` with its horizon where the flow between the neighbours ``pairs`` puts it
     (``motions``: their true azimuths in ``model``'s frame, radians)."""
     needed = {ij for p in pairs for ij in (p.current, p.goal)}

@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 
 from homebench.data.check.azimuth import AzimuthFit
+from homebench.data.check.readings import Choice, Reading
 from homebench.data.check.rim import Circle
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry, wrap_angle
 from homebench.views import ImageKind
@@ -21,12 +22,11 @@ OFFSET_SE_FACTOR = 3.0
 CENTRE_TOLERANCE_PX = 2.0
 #: Largest horizon error (deg of elevation) taken as agreement.
 HORIZON_TOLERANCE_DEG = 2.0
-#: A verdict on the direction needs the better direction's mean AE below this (deg) ...
-MAX_MEAN_AE_DEG = 30.0
-#: ... and the other's this much higher (deg); a mirror image's is about 90.
-MIN_MARGIN_DEG = 20.0
-#: Pairs that must have an estimate for a verdict on the direction.
-MIN_HOMED = 20
+#: The key (a manifest's, homebench.yaml's) of the order of a grid's labels ...
+ORDER_KEY = "grid.order"
+#: ... and (homebench.yaml's) of the way recorded headings grow and where their zero points.
+HEADINGS_KEY = "headings.direction"
+HEADINGS_ZERO_KEY = "headings.zero_deg"
 
 
 @dataclass(frozen=True)
@@ -54,47 +54,44 @@ class Finding:
 
 @dataclass(frozen=True)
 class KindCheck:
-    """The findings on one image kind, and neighbour homing under each direction (``fits``,
-    by direction, the manifest's first)."""
+    """The findings on one image kind, and neighbour homing under each reading of the grid
+    (``fits``, the stated reading's first)."""
 
     kind: ImageKind
     findings: tuple[Finding, ...]
-    fits: dict[str, AzimuthFit]
+    fits: dict[Reading, AzimuthFit]
 
     @property
     def agrees(self) -> bool:
         return all(f.agrees is not False for f in self.findings)
 
 
-def conclusive(fits: dict[str, AzimuthFit]) -> bool:
-    """Whether neighbour homing tells the direction: one direction fits well, the other not,
-    with enough pairs homed."""
-    best, other = sorted(fits.values(), key=lambda f: f.mean_ae)
-    return (
-        best.n_homed >= MIN_HOMED
-        and math.degrees(best.mean_ae) <= MAX_MEAN_AE_DEG
-        and math.degrees(other.mean_ae - best.mean_ae) >= MIN_MARGIN_DEG
-    )
-
-
 def compare(
     kind: ImageKind,
     manifest: Model,
     fitted: Model,
-    fits: dict[str, AzimuthFit],
+    choice: Choice,
+    stated: Reading,
     rim: Circle | None,
-    heading_deg: float | None,
+    heading: tuple[str, float] | None,
 ) -> KindCheck:
-    """The findings of ``kind``: the ``manifest``'s camera model against the ``fitted`` one
-    (the images' centre, direction, azimuth zero and horizon). ``heading_deg``: the
-    manifest's one heading (None when it gives headings per position)."""
-    known = conclusive(fits)
-    zero = _zero(manifest, fitted, fits, known, heading_deg)
-    findings = [_direction(manifest, fitted, known), zero]
-    findings.append(_horizon(manifest, fitted, known))
+    """The findings of ``kind``: the ``manifest``'s camera model and the ``stated`` reading of
+    the database against the ``fitted`` model and the reading the images support
+    (``choice``): the images' centre, the grid's order (a route's heading sense), the
+    direction, azimuth zero and horizon. ``heading``: the key and stated value (deg) of a
+    heading that turns every image alike, the alternative to a new azimuth zero (None: none,
+    as where a manifest gives headings per position)."""
+    known = choice.reading is not None
+    fit = choice.fits[choice.reading or stated]
+    findings = [_layout(stated, choice, manifest)] if len(choice.fits) > 2 else []
+    findings += [
+        _direction(manifest, fitted, choice),
+        _zero(manifest, fitted, fit, known, heading),
+        _horizon(manifest, fitted, known),
+    ]
     if isinstance(manifest, CatadioptricGeometry):
         findings.insert(0, _centre(manifest, rim))
-    return KindCheck(kind, tuple(findings), fits)
+    return KindCheck(kind, tuple(findings), choice.fits)
 
 
 def _key(manifest: Model, name: str) -> str:
@@ -116,30 +113,60 @@ def _centre(manifest: CatadioptricGeometry, rim: Circle | None) -> Finding:
     )  # fmt: skip
 
 
-def _direction(manifest: Model, fitted: Model, known: bool) -> Finding:
+#: What each key of a reading is, in the findings.
+LAYOUT = {ORDER_KEY: "grid order", HEADINGS_KEY: "heading sense"}
+
+
+def _layout(stated: Reading, choice: Choice, manifest: Model) -> Finding:
+    """Where the poses put the images: a grid's order (which position each label was taken
+    at), a route's heading sense."""
+    what = LAYOUT[stated.key]
+    if choice.reading is None:
+        return Finding(what, stated.key, stated.value, "-", None, "not checked: no fit")
+    found = choice.reading.value
+    alternative = choice.alternative
+    other = (
+        f"{_key(manifest, 'direction')}: {alternative.direction}"
+        if alternative is not None and found != stated.value
+        else None
+    )
+    detail = "fits as well as mirrored columns (see data/check/readings.py)" if other else ""
+    agrees = found == stated.value
+    return Finding(what, stated.key, stated.value, found, agrees, detail, None, other)
+
+
+def _direction(manifest: Model, fitted: Model, choice: Choice) -> Finding:
     key = _key(manifest, "direction")
-    if not known:
+    if choice.reading is None:
         return Finding(
             "direction", key, manifest.direction, "undetermined", False,
-            advice=f"{key}: the images tell no direction (neighbour homing fits neither well); "
-            "check the elevation range or radial profile, and that each file is the grid "
-            "position its name says",
+            advice=f"{key}: the images tell no direction (neighbour homing fits no reading "
+            "well); check the elevation range or radial profile, and that each file is the "
+            "grid position its name says",
         )  # fmt: skip
+    alternative = choice.alternative
+    other = (
+        f"{alternative.key}: {alternative.value}"
+        if alternative is not None and fitted.direction != manifest.direction
+        else None
+    )
     agrees = manifest.direction == fitted.direction
-    return Finding("direction", key, manifest.direction, fitted.direction, agrees)
+    detail = "fits as well as another grid order (see data/check/readings.py)" if other else ""
+    return Finding(
+        "direction", key, manifest.direction, fitted.direction, agrees, detail, None, other
+    )
 
 
 def _zero(
     manifest: Model,
     fitted: Model,
-    fits: dict[str, AzimuthFit],
+    fit: AzimuthFit,
     known: bool,
-    heading_deg: float | None,
+    heading: tuple[str, float] | None,
 ) -> Finding:
-    """The azimuth zero: the zero column of a panorama, the zero angle of a raw image; where
-    the direction is right and the images share one heading, turning that heading instead
-    is the alternative."""
-    fit = fits[fitted.direction]
+    """The azimuth zero (``fit``: of the reading found): the zero column of a panorama, the
+    zero angle of a raw image; where the direction is right and ``heading`` (key, degrees)
+    turns every image alike, turning it instead is the alternative."""
     tolerance = max(OFFSET_TOLERANCE_DEG, OFFSET_SE_FACTOR * math.degrees(fit.offset_se))
     if isinstance(manifest, CatadioptricGeometry):
         assert isinstance(fitted, CatadioptricGeometry)
@@ -154,9 +181,10 @@ def _zero(
     if not known:
         return Finding(what, key, f"{stated:.1f}", "-", None, "not checked: no direction")
     alternative = None
-    if heading_deg is not None and manifest.direction == fitted.direction:
-        turned = round(heading_deg + math.degrees(fit.offset), 1) % 360.0
-        alternative = f"heading_deg: {turned:.1f} (manifest: {heading_deg:.1f})"
+    if heading is not None and manifest.direction == fitted.direction:
+        heading_key, stated_heading = heading
+        turned = round(stated_heading + math.degrees(fit.offset), 1) % 360.0
+        alternative = f"{heading_key}: {turned:.1f} (now: {stated_heading:.1f})"
     return Finding(
         what, key, f"{stated:.1f}", f"{found:.1f}", abs(offset) <= tolerance,
         f"{_signed(offset)} deg apart (tolerance {tolerance:.1f})", alternative=alternative,

@@ -20,7 +20,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.data.check.pairs import GridIndex, NeighbourPair
+from homebench.data.check.pairs import GridIndex, Pair
 from homebench.geometry import PanoramaGeometry, angle_diff
 
 FloatArray = NDArray[np.float64]
@@ -45,7 +45,7 @@ def vertical_flow(current: NDArray[np.uint8], goal: NDArray[np.uint8]) -> NDArra
 def flow_profile(
     panoramas: Mapping[GridIndex, NDArray[np.uint8]],
     geometry: PanoramaGeometry,
-    pairs: Sequence[NeighbourPair],
+    pairs: Sequence[Pair],
     motions: FloatArray,
 ) -> FloatArray:
     """Per row, the median of vertical flow times ``sign(cos(azimuth - motion))`` over the

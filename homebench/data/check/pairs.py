@@ -28,6 +28,19 @@ class NeighbourPair:
         return ("+" if self.goal[k] > self.current[k] else "-") + self.axis
 
 
+@dataclass(frozen=True)
+class PlacePair:
+    """Two posed images, addressed as places (k, 0), and the ``way`` the goal lies: the axis
+    and sign ("+x", ..., "-y") of the world direction's larger component."""
+
+    current: GridIndex
+    goal: GridIndex
+    way: str
+
+
+Pair = NeighbourPair | PlacePair
+
+
 def _edges(grid: Grid, axis: Axis) -> list[tuple[GridIndex, GridIndex]]:
     """Every pair of positions one step apart along ``axis``, once, lower index first."""
     di, dj = (1, 0) if axis == "x" else (0, 1)
