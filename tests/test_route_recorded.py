@@ -74,8 +74,9 @@ def test_the_scene_shows_the_nearest_recorded_image_turned_to_the_pose(route: Pa
     wider = posed_scene(open_bob(route), UnfoldConfig(), reach_m=0.6)  # recorded_reach_m
     inside = Pose(0.5 * _pose(4).x, 0.5 * _pose(4).y, _pose(4).heading)  # 0.5 m in from image 4
     assert np.array_equal(wider.render(inside, 0), _image(4))
-    with pytest.raises(PoseError, match="recorded_reach_m"):
+    with pytest.raises(PoseError, match="recorded_reach_m") as outside:
         wider.check_pose(Pose(-0.5, -0.5, 0.0))
+    assert outside.value.fault == "outside"  # beyond the recording: no collision with anything
 
 
 def test_recorded_waypoints_follow_the_recording_in_metres(route: Path) -> None:
@@ -154,7 +155,7 @@ def test_a_route_run_replays_a_recorded_route_with_both_families(
     """The recorded arc driven out and homed by warping (snapshots) and perfect-memory (every
     outbound view) from the same drive, probed along the route; the report pairs the two.
     Every view is a recorded image; a trial ends where the robot arrives or leaves the
-    recording's reach (near home it may overshoot the first pose: a collision), so the test
+    recording's reach (near home it may overshoot the first pose: outside), so the test
     checks the drive, the probes and the report, not arrival."""
     config = {
         "kind": "route",

@@ -105,7 +105,8 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> Scene:
         if not (np.all(pose.xy >= low) and np.all(pose.xy <= high)):
             raise PoseError(
                 f"pose ({pose.x:.2f}, {pose.y:.2f}) m is more than one spacing outside the grid "
-                f"of database {database.name!r}"
+                f"of database {database.name!r}",
+                "outside",
             )
 
     def render(pose: Pose, noise_seed: int) -> NDArray[np.uint8]:
@@ -136,7 +137,8 @@ def posed_scene(
         if not distance <= reach + 1e-9:
             raise PoseError(
                 f"pose ({pose.x:.2f}, {pose.y:.2f}) m is {distance:.2f} m from the nearest "
-                f"recorded image of database {posed.name!r}, farther than {what} ({reach:.2f} m)"
+                f"recorded image of database {posed.name!r}, farther than {what} ({reach:.2f} m)",
+                "outside",
             )
         return k
 

@@ -45,6 +45,7 @@ OUTCOME_COLOURS = {
     "steps": "#984EA3",
     "no_estimate": "#999999",
     "collision": "#222222",
+    "outside": "#A65628",
 }
 OBSTACLE_COLOUR = "#9E9E9E"
 FAILURE_COLOUR = "#E7298A"

@@ -72,6 +72,7 @@ SUMMARY_COLUMNS: Columns = {
     "steps": ("steps", FIXED2, 1.0),
     "no_estimate_share": ("steps without estimate", FIXED3, 1.0),
     "collisions": ("collisions", FIXED0, 1.0),
+    "outside": ("left the grid", FIXED0, 1.0),
     "s_per_step": ("time per step [ms]", SIGNIFICANT3, 1000.0),
 }
 CATCHMENT_COLUMNS: Columns = {

@@ -24,7 +24,7 @@ import hashlib
 import math
 from collections import OrderedDict
 from functools import lru_cache
-from typing import Any
+from typing import Any, Literal
 
 import cv2
 import numpy as np
@@ -57,8 +57,20 @@ _CACHE_SIZE = 6
 _worlds: OrderedDict[str, World] = OrderedDict()
 
 
+PoseFault = Literal["collision", "outside"]
+
+
 class PoseError(HomebenchError):
-    """A pose that cannot be rendered: outside the room or inside an object."""
+    """A pose that cannot be rendered, and why (``fault``): ``collision``, inside an object or
+    beyond the room's walls; ``outside``, beyond what a database shows (a grid's extent, a
+    recording's reach), where nothing stops a robot."""
+
+    def __init__(self, message: str, fault: PoseFault = "collision") -> None:
+        super().__init__(message)
+        self.fault: PoseFault = fault
+
+    def __reduce__(self) -> tuple[type[PoseError], tuple[str, PoseFault]]:
+        return type(self), (str(self), self.fault)
 
 
 def supersampled_geometry(

@@ -7,7 +7,8 @@ steers (:func:`~homebench.experiments.robot.steer`: turn on the spot by at most 
 limit, or turn onto the direction and drive one step) with the drift model's noise. No
 estimate: drive straight on (``continue``, counted) or end with **no_estimate** (``stop``).
 A step whose segment leaves the free space (the scene's ``check_pose``, tested every
-``CHECK_SPACING`` metres along it) ends the trial with **collision** at the step's end.
+``CHECK_SPACING`` metres along it) ends the trial at the step's end with **collision** (an
+object, the room's walls) or **outside** (beyond what a database shows: its grid's extent).
 
 The path ratio is the path driven over ``start distance - success_radius``, the shortest path
 that succeeds: the ``truth`` control without noise drives straight, so its ratio lies in
@@ -20,18 +21,18 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Literal, get_args
 
 import numpy as np
 
-from homebench.data.synth.world import PoseError
+from homebench.data.synth.world import PoseError, PoseFault
 from homebench.experiments.closed_loop.config import ClosedLoopMotion
 from homebench.experiments.closed_loop.homers import Homer
 from homebench.experiments.robot import Robot, steer
 from homebench.geometry import Pose
 
-Outcome = Literal["success", "budget", "steps", "no_estimate", "collision"]
-OUTCOMES: tuple[Outcome, ...] = ("success", "budget", "steps", "no_estimate", "collision")
+Outcome = Literal["success", "budget", "steps", "no_estimate", "collision", "outside"]
+OUTCOMES: tuple[Outcome, ...] = get_args(Outcome)
 #: Spacing (metres) of the free-space checks along a step.
 CHECK_SPACING = 0.01
 
@@ -50,15 +51,16 @@ class LoopResult:
     home_s: float = 0.0
 
 
-def segment_free(a: Pose, b: Pose, check: Callable[[Pose], None]) -> bool:
-    """Whether every point of the segment a -> b (every CHECK_SPACING m, both ends) is free."""
+def segment_fault(a: Pose, b: Pose, check: Callable[[Pose], None]) -> PoseFault | None:
+    """Why the segment a -> b is not free (of its first point, every CHECK_SPACING m, that
+    ``check`` refuses), or None when it is."""
     n = max(1, math.ceil(math.dist(a.xy, b.xy) / CHECK_SPACING))
     try:
         for t in np.linspace(0.0, 1.0, n + 1)[1:]:
             check(Pose(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), b.heading))
-    except PoseError:
-        return False
-    return True
+    except PoseError as error:
+        return error.fault
+    return None
 
 
 def _ended(robot: Robot, goal: Pose, result: LoopResult, budget: float,
@@ -102,8 +104,9 @@ def run_loop(
         result.steps += 1
         result.path += math.dist(before.xy, robot.pose.xy)
         result.poses.append(robot.pose)
-        if not segment_free(before, robot.pose, check):
-            outcome = "collision"
+        fault = segment_fault(before, robot.pose, check)
+        if fault is not None:
+            outcome = fault
             break
     result.outcome = outcome
     return result

@@ -81,6 +81,7 @@ def summary_table(frame: pd.DataFrame, seed: int) -> pd.DataFrame:
             "steps": float(steps.mean()),
             "no_estimate_share": float(group["no_estimates"].sum() / max(steps.sum(), 1.0)),
             "collisions": int((group["outcome"] == "collision").sum()),
+            "outside": int((group["outcome"] == "outside").sum()),
             "s_per_step": float(per_step.mean()),
             "catchment_m2": float(np.mean(areas)),
         })  # fmt: skip

@@ -28,8 +28,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-from numpy.typing import NDArray
 from pydantic import Field
 
 from homebench.experiments.memory import MemoryGuide
@@ -78,7 +76,7 @@ def follow_home(
         oracle = params.arrival.criterion == "oracle"
         return oracle or math.dist(robot.odometry.xy, home_xy) <= params.near_home_m
 
-    image: NDArray[np.uint8] | None = take_view(look, robot, result)
+    image = take_view(look, robot, result)
     status, _ = drive_leg(
         robot, leg, guide.estimate, look, limits, params, max_steps, result, image, near
     )

@@ -24,8 +24,12 @@ starting heading.
 
 A step where the method gives no direction drives straight on (the last command's heading, as
 a controller that keeps its last command); ``max_no_estimate`` of them in a row end the leg as
-``lost``. A leg gives up after ``max_leg_steps`` steps; a pose the scene cannot show (inside an
-object, out of the room) ends the run as ``collision``.
+``lost``. ``max_turn_only`` steps in a row that only turn (a direction that keeps jumping past
+the robot's turn limit: two places the memory finds about as familiar, one each side) end it
+as ``turning`` (default: as many as make a full turn on the spot). A leg gives up after
+``max_leg_steps`` steps; a pose the scene cannot show ends the run as ``collision`` (inside an
+object, through the room's walls) or ``outside`` (beyond a database's grid or a recording's
+reach, where the robot sees nothing: :class:`~homebench.data.synth.world.PoseError`).
 """
 
 from __future__ import annotations
@@ -39,14 +43,14 @@ import numpy as np
 from numpy.typing import NDArray
 from pydantic import BaseModel, ConfigDict, Field
 
-from homebench.data.synth.world import PoseError
+from homebench.data.synth.world import PoseError, PoseFault
 from homebench.experiments.homing import MethodHomer
 from homebench.experiments.robot import MotionLimits, Robot, drive_to, steer, turn_to
 from homebench.experiments.route.snapshots import SnapshotRule, view_distance
 from homebench.geometry import Pose
 from homebench.methods.base import HomingEstimate
 
-LegStatus = Literal["reached", "lost", "steps", "collision"]
+LegStatus = Literal["reached", "lost", "steps", "turning", "collision", "outside"]
 #: The robot's eyes: the unfolded panorama at a pose as frame k (the scene's camera).
 Look = Callable[[Pose, int], NDArray[np.uint8]]
 #: What steers a leg: the estimate from the grey view seen at a true pose.
@@ -68,15 +72,23 @@ class Arrival(BaseModel):
 
 class FollowParams(BaseModel):
     """What every route follower shares: the ``arrival`` criterion, ``max_no_estimate`` (steps
-    without a direction in a row before a leg is lost), ``return_to_best`` and ``align`` at
-    home (see the module docstring)."""
+    without a direction in a row before a leg is lost), ``max_turn_only`` (steps that only
+    turn, in a row, before it ends as turning; None: a full turn's worth at the turn limit),
+    ``return_to_best`` and ``align`` at home (see the module docstring)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
     arrival: Arrival = Arrival()
     max_no_estimate: int = Field(5, ge=1)
+    max_turn_only: int | None = Field(None, ge=1)
     return_to_best: bool = True
     align: bool = True
+
+    def turn_only_limit(self, limits: MotionLimits) -> int:
+        """Steps that only turn, in a row, that end a leg: ``max_turn_only`` or a full turn."""
+        if self.max_turn_only is not None:
+            return self.max_turn_only
+        return math.ceil(360.0 / limits.max_turn_deg)
 
 
 class PairwiseParams(FollowParams):
@@ -141,16 +153,21 @@ class LegRun:
     def __init__(self, target: Target, robot: Robot) -> None:
         self.target, self.steps, self.without, self.since_best = target, 0, 0, 0
         self.start = self.best = math.inf
+        self.last = math.nan
         self.best_odometry = robot.odometry
 
     def saw(self, distance: float, robot: Robot, moved: bool, arrival: Arrival) -> bool:
-        """Record the view distance at the robot's pose; True when the target is reached."""
+        """Record the view distance at the robot's pose; True when the target is reached. A
+        step that leaves the distance exactly as it was does not count towards the patience:
+        the view did not change (a replayed recording shows one image until another is
+        nearer), so the robot has not seen itself pass the minimum."""
         if not math.isfinite(self.start):
             self.start = distance
         if distance < self.best * (1.0 - arrival.min_decrease) or not math.isfinite(self.best):
             self.best, self.best_odometry, self.since_best = distance, robot.odometry, 0
-        elif moved:
+        elif moved and distance != self.last:
             self.since_best += 1
+        self.last = distance
         if arrival.criterion == "oracle":
             return math.dist(robot.pose.xy, self.target.pose.xy) <= arrival.radius_m
         return self.since_best >= arrival.patience
@@ -162,13 +179,15 @@ class LegRun:
         )
 
 
-def take_view(look: Look, robot: Robot, result: PairwiseHoming) -> NDArray[np.uint8] | None:
-    """The robot's grey view at its pose as the next frame, or None where the scene cannot
-    show it (a collision)."""
+def take_view(
+    look: Look, robot: Robot, result: PairwiseHoming
+) -> NDArray[np.uint8] | PoseFault:
+    """The robot's grey view at its pose as the next frame, or, where the scene cannot show
+    it, why ("collision" or "outside")."""
     try:
         return grey(look(robot.pose, len(result.poses) - 1))
-    except PoseError:
-        return None
+    except PoseError as error:
+        return error.fault
 
 
 def drive_leg(
@@ -180,22 +199,25 @@ def drive_leg(
     params: FollowParams,
     max_steps: int,
     result: PairwiseHoming,
-    image: NDArray[np.uint8] | None,
+    image: NDArray[np.uint8] | PoseFault,
     may_arrive: Callable[[Robot], bool] = lambda robot: True,
-) -> tuple[LegStatus, NDArray[np.uint8] | None]:
-    """Steer by ``steer_by`` towards ``leg``'s target until it is reached, lost, out of steps
-    or in collision; its status and the last view. Arrival is watched only at poses where
-    ``may_arrive`` (the view distances before do not count). ``image``: the view at the
-    robot's pose; poses go to ``result``."""
-    moved = False
+) -> tuple[LegStatus, NDArray[np.uint8] | PoseFault]:
+    """Steer by ``steer_by`` towards ``leg``'s target until it is reached, lost, out of steps,
+    turning on the spot or out of what the scene shows; its status and the last view (or
+    why there is none). Arrival is watched only at poses where ``may_arrive`` (the view
+    distances before do not count). ``image``: the view at the robot's pose; poses go to
+    ``result``."""
+    moved, turning, turn_only = False, 0, params.turn_only_limit(limits)
     while True:
-        if image is None:
-            return "collision", image
+        if isinstance(image, str):
+            return image, image
         distance = view_distance(image, leg.target.image) if may_arrive(robot) else None
         if distance is not None and leg.saw(distance, robot, moved, params.arrival):
             return "reached", image
         if leg.steps == max_steps:
             return "steps", image
+        if turning == turn_only:
+            return "turning", image
         estimate = steer_by(robot.pose, image)
         if estimate.angle is None:
             leg.without += 1
@@ -207,6 +229,7 @@ def drive_leg(
         command = steer(direction, limits.step_length, limits)
         robot.execute(command)
         moved, leg.steps = command.forward > 0, leg.steps + 1
+        turning = 0 if moved else turning + 1
         result.poses.append(robot.pose)
         image = take_view(look, robot, result)
 
@@ -250,7 +273,7 @@ def settle(
         for _ in drive_to(robot, (best.x, best.y), limits, by_odometry=True):
             result.poses.append(robot.pose)
     image = take_view(look, robot, result) if params.align else None
-    if image is None:
+    if image is None or isinstance(image, str):
         return
     estimate = leg.target.homer.estimate(robot.pose, image)
     if estimate.rotation is not None:

@@ -31,6 +31,7 @@ from homebench.data.synth.world import PoseError
 from homebench.experiments.robot import MotionLimits, Robot, steer, turn_to
 from homebench.experiments.route.lifecycle import IntArray, shared_ids
 from homebench.experiments.route.outbound import Outbound
+from homebench.experiments.route.pairwise import LegStatus
 from homebench.experiments.scene import Camera
 from homebench.geometry import PanoramaGeometry, Pose, wrap_angle
 from homebench.methods.klt_tracking import KltTracker, Tracks
@@ -42,8 +43,6 @@ from homebench.methods.sector_law import (
     motion_vector,
     order_filter,
 )
-
-LegStatus = Literal["reached", "lost", "steps", "collision"]
 
 
 class VisualHomingParams(BaseModel):
@@ -244,8 +243,8 @@ def home_visually(
             result.poses.append(robot.pose)
             try:
                 new_image = camera(robot.pose, len(result.poses) - 1)
-            except PoseError:
-                status = "collision"
+            except PoseError as error:
+                status = error.fault
                 break
             tracks = tracker.step(image, tracks, new_image, replenish=False).survivors()
             if params.anchor:
