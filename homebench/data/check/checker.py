@@ -21,7 +21,14 @@ from homebench.data.check.pairs import (
     first_per_axis,
     neighbour_pairs,
 )
-from homebench.data.check.readings import Choice, Reading, choose, fit_readings, order_truths
+from homebench.data.check.readings import (
+    MIN_HOMED,
+    Choice,
+    Reading,
+    choose,
+    fit_readings,
+    order_truths,
+)
 from homebench.data.check.rim import Circle, mirror_rim
 from homebench.data.database import GridDatabase
 from homebench.errors import DataError
@@ -57,7 +64,7 @@ FLOW_COLUMNS = 720
 
 def check_database(db: GridDatabase, seed: int = 0) -> list[KindCheck]:
     """Check every image kind of ``db`` against its images (DataError when the grid has no
-    neighbours along x or along y)."""
+    neighbours along x or along y, or too few pairs of them for a verdict)."""
     nx, ny = db.grid.shape
     if nx < 2 or ny < 2:
         raise DataError(
@@ -65,6 +72,11 @@ def check_database(db: GridDatabase, seed: int = 0) -> list[KindCheck]:
             f"its grid is {nx} x {ny}"
         )
     pairs = neighbour_pairs(db.grid, PAIRS_PER_AXIS, seed)
+    if len(pairs) < MIN_HOMED:
+        raise DataError(
+            f"database {db.name!r}: data check homes between grid neighbours and needs "
+            f"{MIN_HOMED} pairs for a verdict; its {nx} x {ny} grid gives {len(pairs)}"
+        )
     return [_check_kind(db, kind, pairs, seed) for kind in db.kinds]
 
 
