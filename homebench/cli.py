@@ -186,13 +186,13 @@ def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] |
     """Write a contact sheet PNG of DATABASE (the grid, one raw + unfolded pair; of posed
     images, a Brains on Board route say, a map of the poses beside one image)."""
     from homebench.data.check.travel import route_warnings
-    from homebench.report.contact_sheet import write_contact_sheet, write_pose_sheet
+    from homebench.report.contact_sheet import centre_sample, write_contact_sheet, write_pose_sheet
 
     opened = _open_database(database, path)
     posed = opened.posed if opened.grid is None else None
     db = opened.database if posed is None else posed.database()
     db.check_layout()
-    sample = at or (db.grid.shape[0] // 2, db.grid.shape[1] // 2)
+    sample = at or centre_sample(db.grid)
     db.path(*sample, db.kinds[0])  # DataError naming the grid when --at is outside it
     out.mkdir(parents=True, exist_ok=True)
     if posed is not None:
@@ -465,6 +465,8 @@ def run(
         show_progress=not no_progress,
     )
     config, outcome, tables, written = done.config, done.outcome, done.tables, done.files
+    for warning in outcome.warnings:
+        click.echo(f"homebench: warning: {warning}", err=True)
     for note in outcome.notes:
         click.echo(f"homebench: note: {note}", err=True)
     if not tables.summary.empty:

@@ -38,6 +38,7 @@ from homebench.data.bob.overrides import (
     GridOverride,
     HeadingsOverride,
     ImageOverrides,
+    MissingPoses,
 )
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.errors import ConfigError, HomebenchError
@@ -75,12 +76,16 @@ class _Strict(BaseModel):
         return data
 
 
+#: The keys of a database entry that state a Brains on Board folder's conventions.
+_BOB_KEYS = ("images", "headings", "grid", "missing_poses")
+
+
 class DatabaseRef(_Strict):
     """A database of the run: a known name, manifest path or Brains on Board folder (``name``),
     or an inline ``world``. ``images`` (the camera model), ``headings`` (how headings are
-    written) and ``grid`` (the labels' order) state a Brains on Board folder's conventions, as
-    its ``homebench.yaml`` would (:mod:`homebench.data.bob.overrides`), replacing the file's
-    and what is assumed."""
+    written), ``grid`` (the labels' order) and ``missing_poses`` (rows without a pose) state a
+    Brains on Board folder's conventions, as its ``homebench.yaml`` would
+    (:mod:`homebench.data.bob.overrides`), replacing the file's and what is assumed."""
 
     name: str | None = None
     path: Path | None = None  # root of a real set's copy (overrides the manifest's env variable)
@@ -88,6 +93,7 @@ class DatabaseRef(_Strict):
     images: ImageOverrides | None = None
     headings: HeadingsOverride | None = None
     grid: GridOverride | None = None
+    missing_poses: MissingPoses | None = None
 
     @model_validator(mode="after")
     def _one_source(self) -> DatabaseRef:
@@ -95,7 +101,7 @@ class DatabaseRef(_Strict):
             raise ValueError("give exactly one of 'name' and 'world'")
         if self.world is not None and self.path is not None:
             raise ValueError("'path' is for named databases, not generated worlds")
-        for key in ("images", "headings", "grid"):
+        for key in _BOB_KEYS:
             if self.world is not None and getattr(self, key) is not None:
                 raise ValueError(f"{key!r} is for Brains on Board folders, not generated worlds")
         return self
@@ -103,7 +109,7 @@ class DatabaseRef(_Strict):
     @property
     def overrides(self) -> BobOverrides | None:
         """What the entry states of a Brains on Board folder (None: nothing)."""
-        stated = {k: getattr(self, k) for k in ("images", "headings", "grid")}
+        stated = {k: getattr(self, k) for k in _BOB_KEYS}
         given = {k: v for k, v in stated.items() if v is not None}
         return BobOverrides(**given) if given else None
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
@@ -171,6 +171,108 @@ class Grid:
     def pose(self, i: int, j: int, heading: float = 0.0) -> Pose:
         x, y = self.position(i, j)
         return Pose(float(x), float(y), heading)
+
+    def present(self) -> NDArray[np.bool_]:
+        """(nx, ny) mask of the positions that hold images: every one of a full grid."""
+        return np.ones(self.shape, dtype=bool)
+
+
+@dataclass(frozen=True, repr=False)
+class HoledGrid(Grid):
+    """A regular grid some of whose positions hold no image (a failed capture, a block cut
+    from a larger grid whose positions it reads in another order): ``missing`` lists them,
+    (i, j) inside the shape, sorted, fewer than every position. :meth:`indices`,
+    :meth:`contains` and :attr:`size` leave them out, :meth:`nearest_index` gives the nearest
+    position present, so that the engine plans, homes and steers over the positions present
+    (a grid without holes is a :class:`Grid`: :func:`holed_grid`)."""
+
+    missing: tuple[tuple[int, int], ...] = ()
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        missing = tuple(sorted({(int(i), int(j)) for i, j in self.missing}))
+        if not missing or len(missing) >= super().size:
+            raise ValueError(f"a grid of shape {self.shape} with holes misses 1 to all but one")
+        if not all(super(HoledGrid, self).contains(i, j) for i, j in missing):
+            raise ValueError(f"missing positions must lie inside the grid of shape {self.shape}")
+        object.__setattr__(self, "missing", missing)
+
+    @functools.cached_property
+    def _holes(self) -> frozenset[tuple[int, int]]:
+        return frozenset(self.missing)
+
+    @functools.cached_property
+    def _hash(self) -> int:
+        return hash((self.shape, self.spacing, self.origin, self.missing))
+
+    def __hash__(self) -> int:  # sources hash by their grid per view: once, not per view
+        return self._hash
+
+    def __repr__(self) -> str:
+        return (
+            f"HoledGrid(shape={self.shape}, spacing={self.spacing}, origin={self.origin}, "
+            f"{len(self.missing)} missing)"
+        )
+
+    @property
+    def size(self) -> int:
+        """Positions present."""
+        return self.shape[0] * self.shape[1] - len(self.missing)
+
+    def contains(self, i: int, j: int) -> bool:
+        return super().contains(i, j) and (i, j) not in self._holes
+
+    def indices(self) -> Iterator[tuple[int, int]]:
+        """The indices present, j fastest."""
+        return (index for index in super().indices() if index not in self._holes)
+
+    def present(self) -> NDArray[np.bool_]:
+        return self._present.copy()
+
+    @functools.cached_property
+    def _present(self) -> NDArray[np.bool_]:
+        mask = np.ones(self.shape, dtype=bool)
+        mask[tuple(np.array(self.missing).T)] = False
+        return mask
+
+    def nearest_index(self, xy: ArrayLike) -> NDArray[np.int64]:
+        """Nearest grid index (i, j) present of world points (shape (..., 2)), also off the
+        grid: the full grid's (clipped), else, where that is missing, by a k-d tree."""
+        p = np.asarray(xy, dtype=np.float64)
+        ij = super().nearest_index(p)
+        hole = ~self._present[ij[..., 0], ij[..., 1]]
+        if hole.any():
+            _, k = self._tree.query(p[hole])
+            ij[hole] = self._present_ij[np.asarray(k, dtype=np.int64)]
+        return ij
+
+    @functools.cached_property
+    def _present_ij(self) -> NDArray[np.int64]:
+        return np.argwhere(self._present).astype(np.int64)
+
+    @functools.cached_property
+    def _tree(self) -> Any:
+        from scipy.spatial import cKDTree  # imported where needed: most runs need none
+
+        return cKDTree(self.position(self._present_ij[:, 0], self._present_ij[:, 1]))
+
+
+def holed_grid(
+    shape: tuple[int, int],
+    spacing: float,
+    origin: tuple[float, float],
+    missing: Sequence[tuple[int, int]],
+) -> Grid:
+    """The grid of ``shape`` without the positions ``missing``: a :class:`Grid` where none
+    is, so that full grids keep their fields and keys, else a :class:`HoledGrid`."""
+    if not missing:
+        return Grid(shape, spacing, origin)
+    return HoledGrid(shape, spacing, origin, tuple(missing))
+
+
+def missing_positions(grid: Grid) -> tuple[tuple[int, int], ...]:
+    """The positions of ``grid``'s shape that hold no image (:class:`HoledGrid`), sorted."""
+    return grid.missing if isinstance(grid, HoledGrid) else ()
 
 
 @dataclass(frozen=True, repr=False)

@@ -14,11 +14,16 @@ the way it travels. Images are written with cv2; the CSV and the metadata are ty
 spaces after the commas, positions in mm, headings in degrees and not all equal, OpenCV's
 ``%YAML:1.0`` line and a ``!!opencv-matrix``. No homebench code writes any of it, so a reading
 bug of homebench's cannot cancel out.
+
+Real recordings have holes, and the writers make them: a grid capture that failed (no row, no
+image), a row whose pose was lost (BoB's ``dataset_recorder`` writes ``nan`` where the GPS gave
+no fix; pandas writes an empty cell), a block of labels cut from a larger recorder grid.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
 
 import cv2
@@ -118,9 +123,27 @@ def _write_image(path: Path, x_mm: float, y_mm: float, heading_deg: float, colou
     assert cv2.imwrite(str(path), image)
 
 
-def write_grid(folder: Path) -> Path:
+#: The cells of a row that lost its pose, as recorders write them: BoB's ``dataset_recorder``
+#: writes ``nan`` where the GPS gave no position, pandas an empty cell.
+LOST_CELL = {"X": "nan", "Y": "nan", "Heading": ""}
+
+
+def _cells(values: dict[str, float], lost: Sequence[str]) -> str:
+    """``X, Y, Z, Heading`` of a row (mm, degrees), the ``lost`` ones (of X, Y, Heading) as
+    :data:`LOST_CELL` writes them."""
+    shown = {name: LOST_CELL[name] if name in lost else f"{v:g}" for name, v in values.items()}
+    return f"{shown['X']}, {shown['Y']}, {Z_MM:g}, {shown['Heading']}"
+
+
+def write_grid(
+    folder: Path,
+    failed: Collection[tuple[int, int]] = (),
+    lost: Mapping[tuple[int, int], Sequence[str]] | None = None,
+) -> Path:
     """A 5 x 5 grid database in ``folder``, rows in no grid order, a pitch, a roll and a
-    timestamp column among the standard ones; ``folder``."""
+    timestamp column among the standard ones; ``folder``. The captures at ``failed`` positions
+    left neither a row nor an image; those at ``lost`` positions lost the values named (of X,
+    Y, Heading), their images taken where they belong."""
     folder.mkdir(parents=True, exist_ok=True)
     lines = [
         "X [mm], Y [mm], Z [mm], Heading [degrees], Pitch [degrees], Roll [degrees], "
@@ -130,28 +153,46 @@ def write_grid(folder: Path) -> Path:
     order = np.random.default_rng(7).permutation(len(cells))
     for n, k in enumerate(order):
         i, j = cells[k]
+        if (i, j) in failed:
+            continue
         x, y = grid_position_mm(i, j)
         heading = grid_heading_deg(i, j)
         name = grid_name(x, y)
         _write_image(folder / name, x, y, heading, colour=(i, j) == (2, 2))
-        lines.append(f"{x:g}, {y:g}, {Z_MM:g}, {heading:g}, nan, 0, {name}, {i}, {j}, 0, {n * 40}")
+        pose = _cells({"X": x, "Y": y, "Heading": heading}, (lost or {}).get((i, j), ()))
+        lines.append(f"{pose}, nan, 0, {name}, {i}, {j}, 0, {n * 40}")
     (folder / "database_entries.csv").write_text("\n".join(lines) + "\n")
     (folder / "database_metadata.yaml").write_text(GRID_METADATA)
     return folder
 
 
-def write_recorder_grid(folder: Path, shape: tuple[int, int]) -> Path:
+def recorder_images(
+    shape: tuple[int, int], block: tuple[range, range] | None = None
+) -> dict[tuple[int, int], tuple[float, float]]:
+    """Label -> where it was rendered (mm) of each image BoB's ant_world_db_creator records on
+    a grid of ``shape`` (nx, ny), in recording order: image k rendered at the k-th position of
+    ``GridRecorder::getPositions()`` (x outer, y inner: (k // ny, k % ny)) and labelled by
+    ``GridRecorder::record(image)`` (k % nx, k // nx); those labelled inside ``block`` (Grid X,
+    Grid Y ranges) only, where given."""
+    nx, ny = shape
+    images = {(k % nx, k // nx): grid_position_mm(k // ny, k % ny) for k in range(nx * ny)}
+    if block is None:
+        return images
+    return {(a, b): taken for (a, b), taken in images.items() if a in block[0] and b in block[1]}
+
+
+def write_recorder_grid(
+    folder: Path, shape: tuple[int, int], block: tuple[range, range] | None = None
+) -> Path:
     """A grid database of ``shape`` (nx, ny) in ``folder`` as BoB's ant_world_db_creator
-    leaves one (heading 0): image k rendered at the k-th position of
-    ``GridRecorder::getPositions()`` (x outer, y inner: (k // ny, k % ny)) and recorded by
-    ``GridRecorder::record(image)``, which labels it (k % nx, k // nx) and writes the position
-    of that label; rows in recording order; ``folder``."""
+    leaves one (heading 0): the images of :func:`recorder_images`, each row with the position
+    ``GridRecorder::record`` writes, that of its label; rows in recording order; ``folder``.
+    ``block``: only the rows labelled inside it (Grid X, Grid Y ranges), as a block cut from
+    the grid; the metadata keeps the grid's size."""
     folder.mkdir(parents=True, exist_ok=True)
     nx, ny = shape
     lines = ["X [mm], Y [mm], Z [mm], Heading [degrees], Filename, Grid X, Grid Y, Grid Z"]
-    for k in range(nx * ny):
-        taken = grid_position_mm(k // ny, k % ny)
-        a, b = k % nx, k // nx
+    for (a, b), taken in recorder_images(shape, block).items():
         x, y = grid_position_mm(a, b)
         name = grid_name(x, y)
         _write_image(folder / name, *taken, 0.0, colour=False)
@@ -206,17 +247,24 @@ def write_route(
     folder: Path,
     points: list[tuple[float, float]] | None = None,
     fixed_heading_deg: float | None = None,
+    lost: Mapping[int, Sequence[str]] | None = None,
+    timestamps_ms: Sequence[float] | None = None,
 ) -> Path:
     """A route database through ``points`` (mm; default :func:`arc_points`) in ``folder``:
     BoB's route file names, no grid columns; ``folder``. ``fixed_heading_deg``: every image
-    taken at that compass heading instead (a camera that does not turn with the robot)."""
+    taken at that compass heading instead (a camera that does not turn with the robot).
+    ``lost``: row k lost the values named (of X, Y, Heading), its image taken where it
+    belongs; ``timestamps_ms``: each row's ``Timestamp [ms]``, a column after the rest."""
     folder.mkdir(parents=True, exist_ok=True)
-    lines = ["X [mm], Y [mm], Z [mm], Heading [degrees], Filename"]
+    time = ", Timestamp [ms]" if timestamps_ms is not None else ""
+    lines = [f"X [mm], Y [mm], Z [mm], Heading [degrees], Filename{time}"]
     for k, (x, y, heading) in enumerate(route_poses(points)):
         heading = heading if fixed_heading_deg is None else fixed_heading_deg
         name = f"image{k + 1:05d}.png"
         _write_image(folder / name, x, y, heading, colour=False)
-        lines.append(f"{x:g}, {y:g}, {Z_MM:g}, {heading:g}, {name}")
+        pose = _cells({"X": x, "Y": y, "Heading": heading}, (lost or {}).get(k, ()))
+        stamp = f", {timestamps_ms[k]:g}" if timestamps_ms is not None else ""
+        lines.append(f"{pose}, {name}{stamp}")
     (folder / "database_entries.csv").write_text("\n".join(lines) + "\n")
     (folder / "database_metadata.yaml").write_text(ROUTE_METADATA)
     return folder

@@ -166,11 +166,6 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
         lambda f: _entries(f, ", 1, 2, 0,", ", 1, 3, 0,"),
         ENTRIES + r":\d+: grid position \(1, 3\) again \(first on line \d+\)",
     ),
-    "a grid position missing": (
-        "grid",
-        lambda f: _drop_row(f, ", 4, 4, 0,"),
-        ENTRIES + r": no image of grid position\(s\) \(4, 4\) of the 5 x 5 grid",
-    ),
     "two layers": (
         "grid",
         lambda f: _entries(f, ", 0, 0, 0,", ", 0, 0, 1,"),
@@ -196,10 +191,34 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
         lambda f: _entries(f, "1000, 0,", "1OOO, 0,"),
         ENTRIES + r":2: X \[mm\] '1OOO' is not a number",
     ),
-    "no heading": (
+    "an infinite heading": (
         "route",
-        lambda f: _entries(f, f", {route_poses()[0][2]:g}, image00001.png", ", , image00001.png"),
-        ENTRIES + r":2: Heading \[degrees\] is empty: every image needs a finite position",
+        lambda f: _entries(f, f", {route_poses()[0][2]:g}, image00001", ", inf, image00001"),
+        ENTRIES + r":2: Heading \[degrees\] is inf: a position or heading is a finite number",
+    ),
+    "no row with a pose": (
+        "route",
+        lambda f: _rewrite(f, 3, lambda h: "nan"),
+        ENTRIES + r": none of its 10 rows has both a position and a heading \(missing_poses: "
+        r"skip\)",
+    ),
+    "a grid whose rows all lost their positions": (
+        "grid",
+        lambda f: (
+            _rewrite(f, 0, lambda x: "nan"),
+            (f / "homebench.yaml").write_text("missing_poses: interpolate\n"),
+        ),
+        ENTRIES + r": a grid of 0 recorded position\(s\) has no spacing",
+    ),
+    "an unknown missing_poses": (
+        "route",
+        lambda f: (f / "homebench.yaml").write_text("missing_poses: guess\n"),
+        r"homebench\.yaml:1: missing_poses: Input should be 'skip' or 'interpolate'",
+    ),
+    "a grid size of 0": (
+        "grid",
+        lambda f: _edit(f, "database_metadata.yaml", "size: [ 5, 5, 1 ]", "size: [ 0, 5, 1 ]"),
+        METADATA + r":\d+: metadata\.grid\.size\[0\]: Input should be greater than or equal to 1",
     ),
     "a video": (
         "route",
@@ -391,5 +410,7 @@ def test_grid_positions_rounded_to_millimetres_fit_their_grid() -> None:
     assert grid.shape == (4, 3)
     assert grid.spacing == pytest.approx(0.25, abs=3e-4)
     assert grid.origin == pytest.approx((1.0, -2.0), abs=1e-3)
-    with pytest.raises(DataError, match="a grid of one position has no spacing"):
+    with pytest.raises(DataError, match=r"a grid of 1 recorded position\(s\) has no spacing"):
         fit_grid(np.zeros((1, 2)), np.zeros((1, 2), np.int64), "entries", str)
+    with pytest.raises(DataError, match=r"a grid of 0 recorded position\(s\) has no spacing"):
+        fit_grid(np.zeros((0, 2)), np.zeros((0, 2), np.int64), "entries", str)

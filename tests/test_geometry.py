@@ -88,6 +88,33 @@ def test_grid_positions_keys_and_nearest() -> None:
         Grid((0, 3), 0.3)
 
 
+def test_a_grid_with_holes_leaves_them_out_and_steers_to_the_nearest_present() -> None:
+    import pickle
+
+    from homebench.geometry import HoledGrid, holed_grid, missing_positions
+
+    full = Grid((4, 3), 0.5, (1.0, -1.0))
+    assert holed_grid((4, 3), 0.5, (1.0, -1.0), []) == full  # no holes: a Grid, as before
+    assert repr(holed_grid((4, 3), 0.5, (1.0, -1.0), [])) == repr(full)
+    grid = holed_grid((4, 3), 0.5, (1.0, -1.0), [(2, 1), (0, 0), (2, 1)])
+    assert isinstance(grid, HoledGrid) and missing_positions(grid) == ((0, 0), (2, 1))
+    assert grid.size == 10 and len(list(grid.indices())) == 10 and missing_positions(full) == ()
+    assert not grid.contains(2, 1) and grid.contains(2, 2) and not grid.contains(4, 0)
+    assert (2, 1) not in set(grid.indices()) and grid.present().sum() == 10
+    np.testing.assert_allclose(grid.position(2, 1), [2.0, -0.5])  # where it would be
+    assert tuple(grid.nearest_index([2.05, -0.45])) in {(1, 1), (3, 1), (2, 0), (2, 2)}
+    assert tuple(grid.nearest_index([2.05, -0.3])) == (2, 2)
+    assert tuple(grid.nearest_index([0.9, -1.1])) in {(1, 0), (0, 1)}  # off the grid too
+    np.testing.assert_array_equal(grid.nearest_index([[1.5, -1.0], [2.5, 0.0]]), [[1, 0], [3, 2]])
+    assert grid != full and grid == holed_grid((4, 3), 0.5, (1.0, -1.0), [(2, 1), (0, 0)])
+    copy = pickle.loads(pickle.dumps(grid))
+    assert copy == grid and hash(copy) == hash(grid)
+    with pytest.raises(ValueError, match="inside"):
+        HoledGrid((4, 3), 0.5, (0.0, 0.0), ((4, 0),))
+    with pytest.raises(ValueError, match="misses 1 to all but one"):
+        HoledGrid((1, 2), 0.5, (0.0, 0.0), ((0, 0), (0, 1)))
+
+
 @pytest.mark.parametrize("direction", ["ccw", "cw"])
 def test_panorama_columns_and_rows(direction: str) -> None:
     g = PanoramaGeometry(360, 95, math.radians(45), math.radians(-50), direction, zero_column=10)

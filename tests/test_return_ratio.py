@@ -7,7 +7,7 @@ import pytest
 
 from homebench.analysis.metrics import HomeField
 from homebench.analysis.return_ratio import catchment, return_ratio
-from homebench.geometry import Grid
+from homebench.geometry import Grid, holed_grid
 
 GRID = Grid((10, 17), 0.3, origin=(-1.0, 0.5))
 N = GRID.size
@@ -234,6 +234,26 @@ def test_catchment_cycle_and_missing_fail():
     angles = np.array([[np.nan], [np.pi], [np.nan], [np.pi], [np.pi]])  # goal entry unused
     result = catchment(HomeField(line, (0, 0), angles))
     np.testing.assert_array_equal(result.success[:, 0], [True, True, False, False, False])
+
+
+def test_on_a_grid_with_holes_rr_steers_past_them_and_catchment_fails_on_them():
+    """README, Brains on Board: trials start at the positions present; the return-ratio robot
+    steers by the nearest position present, Möller's variant fails on stepping onto a hole."""
+    line = holed_grid((5, 1), 1.0, (0.0, 0.0), [(2, 0)])
+    field = HomeField.ideal(line, (0, 0))  # the hole's entry is never read
+    rr = return_ratio(field)
+    assert rr.rr == 1.0 and rr.started[:, 0].tolist() == [True, True, False, True, True]
+    assert rr.starts.tolist() == [[0, 0], [1, 0], [3, 0], [4, 0]]
+    assert rr.success[4, 0] and rr.path_length[4, 0] == pytest.approx(4.0, abs=0.8)
+    result = catchment(field)
+    np.testing.assert_array_equal(result.success[:, 0], [True, True, False, False, False])
+    assert result.ratio == pytest.approx(2 / 4)  # of the positions present
+    with pytest.raises(ValueError, match="starts"):
+        return_ratio(field, starts=[(2, 0)])
+
+    holed = holed_grid(GRID.shape, GRID.spacing, GRID.origin, [(5, 8), (0, 3)])
+    assert return_ratio(HomeField.ideal(holed, (7, 13))).rr == 1.0
+    assert catchment(HomeField.ideal(holed, (0, 0))).ratio < 1.0  # (0, 3) cuts (0, 4..) off
 
 
 def test_catchment_ties_go_to_the_axis_neighbour():

@@ -4,6 +4,12 @@ discrete catchment-area variant.
 Conventions shared by both: every start (by default every grid position) is one trial, the goal
 itself included, which succeeds at once; the ratio is the share of successful trials. A position
 without an estimate (NaN in the field) ends any trial that needs its direction in failure.
+
+On a grid with holes (:class:`~homebench.geometry.HoledGrid`: positions without an image) the
+trials start at the positions present only. The return-ratio robot steers by the nearest
+position present (a hole has no image to read); Möller's variant, which moves from node to
+node, fails on stepping onto a hole, as onto a position without an estimate. Neither number is
+then strictly comparable with a full grid's.
 """
 
 from __future__ import annotations
@@ -76,16 +82,17 @@ def return_ratio(
     """Return ratio of a home-vector field (eq. 13, the step procedure of seed 001, 4.3).
 
     A dummy robot starts at each of ``starts`` (grid indices, shape (n, 2); default every grid
-    position) and, all robots together, repeats: succeed if within ``success_radius`` of the goal
-    (so a start within it, the goal itself always, succeeds with no travel); fail once it has
-    travelled more than ``max_travel``; otherwise take one step of ``rh`` along the world-frame
-    direction of the grid position nearest to it. All lengths are in grid units;
-    ``max_travel`` defaults to half the grid's perimeter. A robot that leaves the grid keeps
-    moving, steered by the nearest position clipped to the grid (the paper says nothing else);
-    a robot whose nearest position has no estimate fails there. The home direction at the goal
-    itself is undefined, so the field's entry there is never used: a robot in the goal's cell
-    (nearest position = the goal) steers straight at the goal, i.e. it has arrived at the
-    grid's resolution and only ``success_radius`` decides how close it must get.
+    position present) and, all robots together, repeats: succeed if within ``success_radius``
+    of the goal (so a start within it, the goal itself always, succeeds with no travel); fail
+    once it has travelled more than ``max_travel``; otherwise take one step of ``rh`` along
+    the world-frame direction of the grid position (present) nearest to it. All lengths are
+    in grid units; ``max_travel`` defaults to half the grid's perimeter. A robot that leaves
+    the grid keeps moving, steered by the nearest position clipped to the grid (the paper says
+    nothing else); a robot whose nearest position has no estimate fails there. The home
+    direction at the goal itself is undefined, so the field's entry there is never used: a
+    robot in the goal's cell (nearest position = the goal) steers straight at the goal, i.e.
+    it has arrived at the grid's resolution and only ``success_radius`` decides how close it
+    must get.
     """
     grid = field.grid
     if max_travel is None:
@@ -143,13 +150,14 @@ def catchment(field: HomeField) -> CatchmentResult:
     From each node the robot moves to the 8-neighbour whose direction is closest to the node's
     home angle (a tie half-way between two neighbours goes to the axis-aligned one). It
     succeeds on reaching the goal node (the goal itself succeeds at once) and fails on stepping
-    off the grid, on a node without an estimate, or on revisiting a node (a cycle).
+    off the grid, on a node without an estimate or a missing one, or on revisiting a node (a
+    cycle). The ratio is over the nodes present.
     """
     grid = field.grid
     nx, ny = grid.shape
-    n = grid.size
+    n = nx * ny  # nodes, those missing among them
     sink = n  # absorbing failure state
-    valid = ~np.isnan(field.angles)
+    valid = ~np.isnan(field.angles) & grid.present()
     octant = np.rint(np.where(valid, field.angles, 0.0) / (np.pi / 4)).astype(np.int64) % 8
     ii, jj = np.indices(grid.shape)
     ni = ii + _OCTANT_STEPS[octant, 0]
@@ -166,17 +174,17 @@ def catchment(field: HomeField) -> CatchmentResult:
         nxt = nxt[nxt]
         reach *= 2
     success = (nxt[:n] == goal).reshape(grid.shape)
-    return CatchmentResult(ratio=float(np.mean(success)), success=success)
+    return CatchmentResult(ratio=float(np.mean(success[grid.present()])), success=success)
 
 
 def _start_mask(grid: Grid, starts: ArrayLike | None) -> BoolArray:
-    """(nx, ny) mask of the start positions; every position when ``starts`` is None."""
+    """(nx, ny) mask of the start positions; every position present when ``starts`` is
+    None."""
     if starts is None:
-        return np.ones(grid.shape, dtype=bool)
+        return grid.present()
     ij = np.asarray(starts, dtype=np.int64).reshape(-1, 2)
-    outside = (ij < 0) | (ij >= np.asarray(grid.shape))
-    if ij.size == 0 or outside.any():
-        raise ValueError(f"starts must be grid indices inside {grid.shape}, got {ij.tolist()}")
+    if ij.size == 0 or not all(grid.contains(i, j) for i, j in ij.tolist()):
+        raise ValueError(f"starts must be grid indices present in {grid.shape}, got {ij.tolist()}")
     mask = np.zeros(grid.shape, dtype=bool)
     mask[ij[:, 0], ij[:, 1]] = True
     return mask

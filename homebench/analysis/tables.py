@@ -32,7 +32,7 @@ from homebench.analysis.statistics import (
 )
 from homebench.config import AhcConfig, MetricsConfig
 from homebench.data.synth.spec import STYLES
-from homebench.geometry import Grid, Places, is_places, wrap_angle
+from homebench.geometry import Grid, Places, holed_grid, is_places, wrap_angle
 from homebench.hashing import derived_seed
 
 GROUP = ["condition", "method"]
@@ -98,11 +98,13 @@ def _grid_of(group: pd.DataFrame) -> Grid:
 
 @functools.lru_cache(maxsize=64)
 def _grid_from(text: str) -> Grid:
-    """The grid of a job record's ``grid`` JSON ``text`` (read once per run and grid)."""
+    """The grid of a job record's ``grid`` JSON ``text`` (read once per run and grid): posed
+    places, or a grid with the positions it misses (if any)."""
     spec = json.loads(text)
     if "places" in spec:
         return Places.of(spec["places"])
-    return Grid(tuple(spec["shape"]), spec["spacing"], tuple(spec["origin"]))
+    missing = [(i, j) for i, j in spec.get("missing", ())]
+    return holed_grid(tuple(spec["shape"]), spec["spacing"], tuple(spec["origin"]), missing)
 
 
 def posed_rows(pairs: pd.DataFrame) -> pd.Series:
@@ -122,8 +124,10 @@ def goal_fields(
     """One world-frame home field per (style, seed, condition, method, goal) and whether it
     covers the grid.
 
-    A field covers the grid when every position but the goal has a pair; return ratios of
-    fields that do not are not comparable with the paper's and are reported as NaN.
+    A field covers the grid when every position but the goal has a pair (every position
+    present, on a grid with holes: :mod:`~homebench.analysis.return_ratio` says how they are
+    treated); return ratios of fields that do not are not comparable with the paper's and are
+    reported as NaN.
     """
     fields = []
     for (style, seed, condition, method, gi, gj), group in pairs.groupby(

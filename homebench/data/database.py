@@ -15,11 +15,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from homebench.data.grid_order import GridOrder
+from homebench.data.grid_order import GridOrder, label_of, label_shape
 from homebench.data.manifest import Manifest
 from homebench.errors import DataError, MissingImagesError
 from homebench.fileio import check_image, read_grey
-from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, Pose, is_places
+from homebench.geometry import (
+    CatadioptricGeometry,
+    Grid,
+    PanoramaGeometry,
+    Pose,
+    is_places,
+    missing_positions,
+)
 from homebench.views import ImageKind, View
 
 
@@ -54,6 +61,11 @@ class GridDatabase:
                     f"place ({i},{j}) is outside database {self.name!r}, which holds {nx} posed "
                     f"images, not a grid: image k is place (k, 0), k in 0..{nx - 1}"
                 )
+            if (i, j) in missing_positions(self.grid):
+                raise DataError(
+                    f"grid position ({i},{j}) of database {self.name!r} has no image (one of "
+                    f"the {len(missing_positions(self.grid))} positions its grid misses)"
+                )
             raise DataError(
                 f"grid position ({i},{j}) is outside database {self.name!r}, whose grid is "
                 f"{nx} x {ny} (i in 0..{nx - 1}, j in 0..{ny - 1})"
@@ -81,6 +93,21 @@ class GridDatabase:
 
     #: Whether the labels may well not be the positions (see ListedGridDatabase).
     order_in_doubt = False
+    #: Where the database's own files disagree (a Brains on Board folder's metadata and
+    #: entries), one line each.
+    warnings: tuple[str, ...] = ()
+
+    def label(self, i: int, j: int) -> tuple[int, int]:
+        """The label of the image at grid position (i, j) (``grid.order`` undone)."""
+        return label_of(self.grid_order, (i, j), self.grid.shape)
+
+    @property
+    def label_grid(self) -> Grid:
+        """The grid of the labels: of the shape they span and the positions' spacing, its
+        origin where the image labelled (0, 0) would be in any order, so that
+        ``label_grid.position(*position_of(order, label, ...))`` places an image in ``order``."""
+        shape = label_shape(self.grid_order, self.grid.shape)
+        return Grid(shape, self.grid.spacing, self.grid.origin)
 
     def candidate_paths(self, i: int, j: int, kind: str) -> list[Path]:
         """The files that may hold the image of (i, j), in order: the pattern's name of its

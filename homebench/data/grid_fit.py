@@ -28,13 +28,15 @@ DECIMALS = 9
 def fit_grid(
     xy: NDArray[np.float64], ij: NDArray[np.int64], source: str, where: Callable[[int], str]
 ) -> Grid:
-    """The grid of positions ``xy`` (n, 2) metres at indices ``ij`` (n, 2) (every index of the
-    grid once), read from ``source``, whose entry k ``where(k)`` names in errors. DataError
-    saying why when the positions lie on no regular grid of homebench's kind."""
+    """The grid of positions ``xy`` (n, 2) metres at indices ``ij`` (n, 2) (each index once;
+    the grid spans them from 0, some may be missing), read from ``source``, whose entry k
+    ``where(k)`` names in errors. DataError saying why when the positions lie on no regular
+    grid of homebench's kind."""
+    if len(ij) < 2:
+        raise DataError(f"{source}: a grid of {len(ij)} recorded position(s) has no spacing")
     shape = (int(ij[:, 0].max()) + 1, int(ij[:, 1].max()) + 1)
-    slopes = {axis: _slope(ij[:, k], xy[:, k]) for k, axis in enumerate("xy") if shape[k] > 1}
-    if not slopes:
-        raise DataError(f"{source}: a grid of one position has no spacing")
+    varies = [bool(np.ptp(ij[:, k]) > 0) for k in (0, 1)]
+    slopes = {axis: _slope(ij[:, k], xy[:, k]) for k, axis in enumerate("xy") if varies[k]}
     for axis, slope in slopes.items():
         if slope <= 0:
             raise DataError(

@@ -55,8 +55,9 @@ def open_database(locator: str | Path, path: Path | None = None) -> OpenedDataba
         posed = open_bob(folder)
         label = database_label(posed.name, locator)
         grid = posed.grid_database() if posed.grid is not None else None
+        warnings = tuple(f"{label}: {warning}" for warning in posed.warnings)
         notes = tuple(f"{label}: {note}" for note in posed.notes)
-        return OpenedDatabase(label, (), notes, grid, posed)
+        return OpenedDatabase(label, warnings, notes, grid, posed)
     db = resolve(locator, path)
     label = database_label(db.name, locator)
     return OpenedDatabase(label, tuple(f"{label}: {w}" for w in db.unmatched_patterns()), grid=db)

@@ -5,8 +5,10 @@ in homebench's world frame: x right, y up, headings counter-clockwise from +x), 
 order; one image kind per database. A database whose images carry grid indices is also a
 :class:`~homebench.data.database.GridDatabase` (:meth:`PosedDatabase.grid_database`), with the
 per-image headings as the manifest's ``headings_deg``: what the engine and the grid commands
-read. Any other (a route, any posed images) is read by the engine as posed places, image k at
-index (k, 0) (:meth:`PosedDatabase.database`, :class:`~homebench.geometry.Places`).
+read; positions of its grid without an image are holes
+(:class:`~homebench.geometry.HoledGrid`). Any other (a route, any posed images) is read by the
+engine as posed places, image k at index (k, 0) (:meth:`PosedDatabase.database`,
+:class:`~homebench.geometry.Places`).
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ from homebench.geometry import (
     Places,
     Pose,
     grid_key,
+    missing_positions,
 )
 from homebench.views import ImageKind, View
 
@@ -56,9 +59,11 @@ class PosedDatabase:
     positions, which ``grid_order`` mapped their labels to; ``order_in_doubt``: the labels may
     well not be the positions (see :class:`ListedGridDatabase`). ``headings``: how the
     recording wrote its headings (``heading_deg`` are homebench's, turned from them). Without
-    a grid the poses are a route, in recording order. ``listing`` is the file that lists the
-    images, ``own_files`` the files (relative to ``root``) that describe the database, not
-    images; ``notes`` say what was assumed in reading it."""
+    a grid the poses are a route, in recording order. ``labels``: the labels of a grid's
+    images and the grid they span (:class:`GridLabels`). ``listing`` is the file that lists
+    the images, ``own_files`` the files (relative to ``root``) that describe the database,
+    not images, ``skipped_files`` those it lists but were left out (rows without a pose);
+    ``notes`` say what was assumed in reading it, ``warnings`` where its files disagree."""
 
     name: str
     description: str
@@ -75,8 +80,11 @@ class PosedDatabase:
     grid_index: NDArray[np.int64] | None = None
     grid_order: GridOrder = "as-written"
     order_in_doubt: bool = False
+    labels: GridLabels | None = None
     headings: HeadingConvention = HeadingConvention()
+    skipped_files: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.files)
@@ -120,7 +128,9 @@ class PosedDatabase:
         """What the poses are, as words: "a 10 x 17 grid 0.3 m apart", "a route of ..."."""
         if self.grid is not None:
             nx, ny = self.grid.shape
-            return f"a {nx} x {ny} grid {self.grid.spacing:g} m apart"
+            missing = missing_positions(self.grid)
+            holes = f", {len(missing)} of its positions without an image" if missing else ""
+            return f"a {nx} x {ny} grid {self.grid.spacing:g} m apart{holes}"
         length = float(np.sum(np.hypot(*np.diff(self.xy, axis=0).T)))
         return f"a route of {len(self)} poses, {length:.2f} m long"
 
@@ -162,9 +172,17 @@ class PosedDatabase:
         files = {
             (int(i), int(j)): name for (i, j), name in zip(grid_index, self.files, strict=True)
         }
-        order = self.grid_order if self.grid is grid else "as-written"
+        on_grid = self.grid is grid
         return ListedGridDatabase(
-            manifest, self.root, files, self.notes, grid, order, self.order_in_doubt
+            manifest,
+            self.root,
+            files,
+            self.notes,
+            grid,
+            self.grid_order if on_grid else "as-written",
+            self.order_in_doubt,
+            self.labels if on_grid else None,
+            self.warnings,
         )
 
     def _section(self) -> RawImages | UnfoldedImages:
@@ -174,6 +192,17 @@ class PosedDatabase:
             return RawImages(folder=".", size=self.size, catadioptric=catadioptric)
         panorama = PanoramaSection.from_geometry(self.camera)
         return UnfoldedImages(folder=".", size=self.size, panorama=panorama)
+
+
+@dataclass(frozen=True, eq=False)
+class GridLabels:
+    """The labels of a grid's images as its listing gives them (Grid X, Grid Y): ``of`` maps
+    each position (i, j) to its image's label, ``grid`` is the grid the labels span, of the
+    recorder's size, with the position of label (0, 0) as its origin (see
+    :attr:`~homebench.data.database.GridDatabase.label_grid`)."""
+
+    of: Mapping[tuple[int, int], tuple[int, int]]
+    grid: Grid
 
 
 def listed(names: list[str]) -> str:
@@ -190,7 +219,9 @@ class ListedGridDatabase(GridDatabase):
     ``order``: how the listing's labels were mapped to the positions (``grid.order``, already
     applied to ``files``); ``order_in_doubt``: nobody stated it and the labels may well not be
     the positions (a grid of BoB's Ant World tools), so that where the images fit a mirrored
-    direction as well as another order, ``data check`` proposes the order."""
+    direction as well as another order, ``data check`` proposes the order. ``labels``: the
+    images' labels as listed (a block cut from a larger grid's are not its positions' indices;
+    None: ``order`` undone); ``warnings``: where the database's files disagree."""
 
     def __init__(
         self,
@@ -201,13 +232,17 @@ class ListedGridDatabase(GridDatabase):
         grid: Grid | None = None,
         order: GridOrder = "as-written",
         order_in_doubt: bool = False,
+        labels: GridLabels | None = None,
+        warnings: tuple[str, ...] = (),
     ):
         super().__init__(manifest, root)
         self.files = dict(files)
         self.notes = notes
         self.order = order
         self.order_in_doubt = order_in_doubt
-        if grid is not None:  # posed places: the manifest's (n, 1) grid with their poses
+        self.labels = labels
+        self.warnings = warnings
+        if grid is not None:  # posed places, or a grid with holes: what the manifest lacks
             self.grid = grid
 
     @property
@@ -217,6 +252,16 @@ class ListedGridDatabase(GridDatabase):
     @property
     def shared_heading_deg(self) -> float | None:
         return None
+
+    def label(self, i: int, j: int) -> tuple[int, int]:
+        if self.labels is None:
+            return super().label(i, j)
+        self._check_position(i, j)
+        return self.labels.of[(i, j)]
+
+    @property
+    def label_grid(self) -> Grid:
+        return super().label_grid if self.labels is None else self.labels.grid
 
     def candidate_paths(self, i: int, j: int, kind: str) -> list[Path]:
         self.manifest.section(kind)  # DataError for a kind the database has not

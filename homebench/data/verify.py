@@ -158,12 +158,13 @@ def _extra_file_warnings(db: GridDatabase, extra: list[str]) -> list[str]:
 def verify_posed(db: PosedDatabase) -> VerifyReport:
     """Verify a database of posed images (the Brains on Board format): every listed image
     present, in a known format, of the database's size and decodable, else the error naming
-    the file; a warning for the files in its folder it does not list. The format records no
-    sums: every image is reported without one."""
+    the file; a warning for the files in its folder it does not list (those of rows left out
+    for want of a pose are listed). The format records no sums: every image is reported
+    without one."""
     db.check_images()
     for k in range(len(db)):
         db.image(k)  # decodes
-    known = {*db.files, *db.own_files}
+    known = {*db.files, *db.own_files, *db.skipped_files}
     extra = [relative for relative in _all_files(db.root) if relative not in known]
     warnings = [f"{db.root}: {len(extra)} files not listed in {db.listing}: {listed(extra)}"]
     return VerifyReport(db.name, db.root, (), db.files, tuple(warnings if extra else ()))

@@ -8,18 +8,23 @@
   are comparable, not bit-identical; anything else differs in content.
 - A **real set** whose manifest lists sums: each file's sha256 (cached by size and mtime, see
   :mod:`homebench.data.file_hashes`) against the manifest's.
-- Every database: an image kind whose ``pattern`` names no file (:func:`pattern_notes`).
+- Every database: an image kind whose ``pattern`` names no file (:func:`pattern_notes`), and
+  where its own files disagree (:func:`database_warnings`: a Brains on Board folder's metadata
+  and entries).
 
-The outcome is a note for the user (never an error: the run may go on, but its numbers are
-not the reference's), and goes into ``environment.json``.
+The outcome is a note for the user, or a warning where a database's own files disagree (never
+an error: the run may go on, but its numbers are not the reference's); the sums' comparison
+goes into ``environment.json``.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 from homebench.config import SweptWorld
 from homebench.data import catalog
+from homebench.data.database import GridDatabase
 from homebench.data.file_hashes import file_hashes
 from homebench.data.fingerprint import matches
 from homebench.data.manifest import Manifest
@@ -134,10 +139,21 @@ def pattern_notes(sources: dict[tuple[str, SweptWorld], Source]) -> list[str]:
     """One note per image kind of a run's database whose pattern names no file (see
     :meth:`~homebench.data.database.GridDatabase.unmatched_patterns`): a kind the run does not
     read is not checked by it, and a mistyped pattern would stay unseen."""
-    notes = []
+    return [f"{name}: {line}" for name, db in _databases(sources) for line in
+            db.unmatched_patterns()]  # fmt: skip
+
+
+def database_warnings(sources: dict[tuple[str, SweptWorld], Source]) -> list[str]:
+    """The warnings of a run's databases on their own files (see
+    :attr:`~homebench.data.database.GridDatabase.warnings`), one line each."""
+    return [f"{name}: {line}" for name, db in _databases(sources) for line in db.warnings]
+
+
+def _databases(sources: dict[tuple[str, SweptWorld], Source]) -> Iterator[tuple[str, GridDatabase]]:
+    """Each database of a run once, named as its notes name it: ``database 'alias', label``."""
     for source in {s.alias: s for s in sources.values()}.values():
         database = open_source(source)
-        label = database_label(database.name, source.locator)
-        notes += [f"database {source.alias!r}, {label}: {line}" for line in
-                  database.unmatched_patterns()]  # fmt: skip
-    return notes
+        yield (
+            f"database {source.alias!r}, {database_label(database.name, source.locator)}",
+            database,
+        )

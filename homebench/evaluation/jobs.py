@@ -53,7 +53,7 @@ from homebench.evaluation.plan import (
 from homebench.evaluation.records import RESULT_FORMAT, ROW_COLUMNS, JobRecord, read_job_record
 from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import make_folder, write_bytes_atomic
-from homebench.geometry import Grid, Places, home_direction, world_to_robot_xy
+from homebench.geometry import Grid, Places, home_direction, missing_positions, world_to_robot_xy
 from homebench.methods.base import batch_home, gives_direction
 from homebench.methods.visual_compass import (
     compass_turn,
@@ -402,7 +402,8 @@ def _home(job: HomeJob, run_dir: Path) -> None:
 
 def grid_record(grid: Grid) -> dict[str, Any]:
     """The ``grid`` of a job record: shape, spacing, origin, and the positions (n, 2) metres
-    of posed places (:class:`~homebench.geometry.Places`), so readers can tell them apart."""
+    of posed places (:class:`~homebench.geometry.Places`), so readers can tell them apart, or
+    the positions (i, j) a grid with holes misses (:class:`~homebench.geometry.HoledGrid`)."""
     record: dict[str, Any] = {
         "shape": list(grid.shape),
         "spacing": grid.spacing,
@@ -410,6 +411,8 @@ def grid_record(grid: Grid) -> dict[str, Any]:
     }
     if isinstance(grid, Places):
         record["places"] = [list(xy) for xy in grid.xy]
+    if missing_positions(grid):
+        record["missing"] = [list(ij) for ij in missing_positions(grid)]
     return record
 
 

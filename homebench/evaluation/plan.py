@@ -40,7 +40,7 @@ from homebench.evaluation.code_version import code_version
 from homebench.evaluation.grid_routes import method_route
 from homebench.evaluation.image_hashes import image_hashes
 from homebench.evaluation.sources import Source, open_source
-from homebench.geometry import Grid, is_places
+from homebench.geometry import Grid, is_places, missing_positions
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
 from homebench.views import ImageKind
@@ -209,6 +209,9 @@ def _layout(grid: Grid) -> str:
             f"the {nx} posed images (not a grid: a goal [k, 0] names image k, k = 0..{nx - 1}, "
             "in the order of the database's listing)"
         )
+    missing = missing_positions(grid)
+    if missing:
+        return f"the {nx} x {ny} grid, {len(missing)} of whose positions have no image"
     return f"the {nx} x {ny} grid"
 
 

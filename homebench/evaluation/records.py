@@ -62,12 +62,15 @@ Finite = Annotated[float, Field(allow_inf_nan=False)]
 @with_config(_STRICT)
 class GridRecord(TypedDict):
     """The current database's grid; posed places (:class:`~homebench.geometry.Places`) add
-    ``places``: their positions (n, 2) in metres, the shape being (n, 1)."""
+    ``places``: their positions (n, 2) in metres, the shape being (n, 1); a grid with holes
+    (:class:`~homebench.geometry.HoledGrid`) ``missing``: the positions (i, j) without an
+    image."""
 
     shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
     spacing: Annotated[float, Field(gt=0, allow_inf_nan=False)]
     origin: tuple[float, float]
     places: NotRequired[list[tuple[Finite, Finite]]]
+    missing: NotRequired[list[tuple[Index, Index]]]
 
 
 @with_config(_STRICT)
@@ -145,7 +148,8 @@ def read_record(adapter: TypeAdapter[R], path: Path, key: str) -> R | None:
 
 def read_job_record(path: Path, key: str) -> JobRecord | None:
     """The result record of job ``key`` in ``path`` if it fits :class:`JobRecord`, its goal
-    and pairs lie in its grid and its places (if any) are as many as the grid's shape says;
+    and pairs lie in its grid and not on a position it misses, its places (if any) are as
+    many as the grid's shape says and its missing positions (if any) lie in it, some left;
     None otherwise."""
     job = read_record(_JOB, path, key)
     if job is None:
@@ -153,6 +157,9 @@ def read_job_record(path: Path, key: str) -> JobRecord | None:
     nx, ny = job["grid"]["shape"]
     if "places" in job["grid"] and (ny != 1 or len(job["grid"]["places"]) != nx):
         return None
+    missing = {(i, j) for i, j in job["grid"].get("missing", ())}
     positions = [(job["goal_i"], job["goal_j"])]
     positions += [(row["current_i"], row["current_j"]) for row in job["rows"]]
-    return job if all(i < nx and j < ny for i, j in positions) else None
+    inside = all(i < nx and j < ny for i, j in [*positions, *missing])
+    fits = inside and len(missing) < nx * ny and missing.isdisjoint(positions)
+    return job if fits else None

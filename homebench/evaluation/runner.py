@@ -25,7 +25,7 @@ from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
 from homebench.errors import WriteError
-from homebench.evaluation.data_checks import check_source, pattern_notes
+from homebench.evaluation.data_checks import check_source, database_warnings, pattern_notes
 from homebench.evaluation.executors import (
     PRELOAD,
     Execution,
@@ -64,6 +64,7 @@ class RunOutcome:
     failures: tuple[Failure, ...]
     pending: int
     notes: tuple[str, ...] = ()  # how the data compare with their reference sums
+    warnings: tuple[str, ...] = ()  # where a database's own files disagree
 
 
 def _outcomes(
@@ -170,7 +171,8 @@ def run_plan(
         outcome = _run_jobs(plan, run_dir, execution, executor, force, show_progress)
     notes = [note for check in checks.values() if check and (note := check.note())]
     notes += pattern_notes(sources)
-    return dataclasses.replace(outcome, notes=tuple(notes))
+    warnings = tuple(database_warnings(sources))
+    return dataclasses.replace(outcome, notes=tuple(notes), warnings=warnings)
 
 
 def _run_jobs(

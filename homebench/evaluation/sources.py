@@ -25,7 +25,7 @@ from homebench.data.manifest import KINDS, Manifest
 from homebench.data.naming import database_label
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError, DataError
-from homebench.geometry import Grid, PanoramaGeometry, Places
+from homebench.geometry import Grid, PanoramaGeometry, Places, missing_positions
 from homebench.hashing import stable_hash
 from homebench.imaging.projection import unfold
 from homebench.imaging.rotation import rotate_view
@@ -127,12 +127,12 @@ def _prepare(
 def real_identity(database: GridDatabase) -> str:
     """12 hex digits naming a real set as a run reads it: its folder and what its manifest says
     of the images (grid, headings, camera models; a BoB folder's as its homebench.yaml and the
-    config's ``images:`` state them; posed places' positions), so that correcting a pose or a
-    camera model recomputes what was computed with the old one."""
+    config's ``images:`` state them; posed places' positions, the positions a grid misses), so
+    that correcting a pose or a camera model recomputes what was computed with the old one."""
     manifest = database.manifest.model_dump(mode="json", exclude={"name", "description"})
-    grid = database.grid  # posed places: their positions, which the manifest's grid lacks
-    places = grid.xy if isinstance(grid, Places) else ()
-    return stable_hash([str(database.root.resolve()), manifest, *places], 12)
+    grid = database.grid  # posed places' positions and a grid's holes: not in the manifest
+    extra = grid.xy if isinstance(grid, Places) else missing_positions(grid)
+    return stable_hash([str(database.root.resolve()), manifest, *extra], 12)
 
 
 def content_key(database: GridDatabase, kinds: tuple[ImageKind, ...]) -> str:

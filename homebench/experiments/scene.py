@@ -96,7 +96,8 @@ def grid_scene(locator: str, path: Path | None, unfold: UnfoldConfig) -> Scene:
     database = _database(locator, path)
     grid = database.grid
     unfold_geometry = None if "unfolded" in database.kinds else unfold.geometry()
-    geometry = database_view(database, 0, 0, "unfolded", unfold_geometry).geometry
+    first = next(grid.indices())  # a grid with holes may have no image at (0, 0)
+    geometry = database_view(database, *first, "unfolded", unfold_geometry).geometry
     assert isinstance(geometry, PanoramaGeometry)
 
     def check_pose(pose: Pose) -> None:

@@ -1,6 +1,6 @@
-"""A contact sheet of a grid database: every position's panorama laid out as on the floor, one
-position large with the manifest's conventions marked on it; of posed images (a route, any
-poses), a map of the poses beside one image large.
+"""A contact sheet of a grid database: every position's panorama laid out as on the floor (a
+position without an image left blank), one position large with the manifest's conventions
+marked on it; of posed images (a route, any poses), a map of the poses beside one image large.
 
 The marks come from the manifest's camera model through :mod:`homebench.geometry`, so a user
 can check a manifest they wrote: on the unfolded panorama, a vertical line at azimuth 0 and
@@ -29,7 +29,7 @@ from matplotlib.patches import Circle  # noqa: E402
 from homebench.config import UnfoldConfig  # noqa: E402
 from homebench.data.database import GridDatabase  # noqa: E402
 from homebench.fileio import atomic_write  # noqa: E402
-from homebench.geometry import CatadioptricGeometry, PanoramaGeometry  # noqa: E402
+from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry  # noqa: E402
 from homebench.imaging.projection import unfold  # noqa: E402
 from homebench.views import View  # noqa: E402
 
@@ -126,6 +126,16 @@ def conventions_text(database: GridDatabase, i: int, j: int) -> str:
     return "\n".join(lines)
 
 
+def centre_sample(grid: Grid) -> tuple[int, int]:
+    """The position a sheet shows large by default: the grid's centre, or where it has no
+    image (a grid with holes) the nearest position that has one."""
+    centre = (grid.shape[0] // 2, grid.shape[1] // 2)
+    if grid.contains(*centre):
+        return centre
+    i, j = grid.nearest_index(grid.position(*centre))
+    return int(i), int(j)
+
+
 def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, int]) -> Path:
     """Write a PNG: the grid of panoramas (x to the right, y up) and, beside it, position
     ``sample`` large (its raw image if the set has raw images, its unfolded panorama) with the
@@ -138,7 +148,8 @@ def write_contact_sheet(database: GridDatabase, path: Path, sample: tuple[int, i
     for i in range(nx):
         for j in range(ny):
             ax = fig.add_subplot(cells[ny - 1 - j, i])
-            ax.imshow(_panorama(database, i, j).image, cmap="gray", vmin=0, vmax=255)
+            if database.grid.contains(i, j):
+                ax.imshow(_panorama(database, i, j).image, cmap="gray", vmin=0, vmax=255)
             ax.set_xticks([])
             ax.set_yticks([])
             if j == 0:

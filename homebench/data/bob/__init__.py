@@ -12,7 +12,8 @@ and the campus recordings of robot cars: a folder of images with
 - optionally ``homebench.yaml``: what the metadata does not say (:mod:`.overrides`).
 
 :func:`open_bob` reads a folder as a :class:`~homebench.data.posed.PosedDatabase` (metres,
-degrees; a grid one also as a :class:`~homebench.data.database.GridDatabase`), :func:`write_bob`
+degrees; a grid one also as a :class:`~homebench.data.database.GridDatabase`: :mod:`.grid`;
+rows without a pose left out or filled: :mod:`.gaps`), :func:`write_bob`
 writes a grid database in the format. No manifest is needed: the data commands and
 :func:`homebench.data.catalog.resolve` take the folder wherever a database is named.
 """

@@ -3,9 +3,13 @@
 The header names the columns; spaces around the commas do not count. ``X [mm], Y [mm], Z [mm],
 Heading [degrees], Filename`` are required; grid databases add ``Grid X, Grid Y, Grid Z`` (all
 three, as BoB requires); other columns (``Pitch [degrees]``, ``Roll [degrees]``, a sensor's)
-are ignored. An empty value is NaN, as pandas writes it: positions and headings must be finite,
-Z may be empty. A ``Frame`` column without ``Filename`` is a video database, which homebench
-does not read.
+are ignored, but for ``Timestamp [ms]`` (BoB's recorders write it, navbench interpolates
+positions by it), read where it is a number. An empty value is NaN, as pandas writes it and
+BoB reads it (``ImageDatabase::loadCSV``, ``src/navigation/image_database.cc``: "Treat empty
+strings as NaNs"), and so is ``nan``: BoB's ``dataset_recorder`` writes NaN positions where
+the GPS gave none. X, Y and Heading may be NaN (:mod:`.gaps` leaves such rows out or fills
+them), never infinite; Z may be empty (homebench does not use it). A ``Frame`` column without
+``Filename`` is a video database, which homebench does not read.
 
 Bounds: at most :data:`MAX_ENTRIES_BYTES` and :data:`MAX_ENTRIES` rows; a grid index has at most
 7 digits; a file name follows the manifest's rule (no empty, '.' or '..' component, no leading
@@ -37,6 +41,7 @@ MAX_ENTRIES_BYTES = 256 << 20
 POSITION = ("X [mm]", "Y [mm]", "Z [mm]")
 HEADING = "Heading [degrees]"
 FILENAME = "Filename"
+TIMESTAMP = "Timestamp [ms]"
 GRID = ("Grid X", "Grid Y", "Grid Z")
 REQUIRED = (*POSITION, HEADING, FILENAME)
 _INDEX = re.compile(r"[0-9]{1,7}")
@@ -44,9 +49,10 @@ _INDEX = re.compile(r"[0-9]{1,7}")
 
 @dataclass(frozen=True)
 class Entries:
-    """The rows of an entries file in file order: ``xyz_mm`` (n, 3) millimetres (Z may be
-    NaN), ``heading_deg`` (n,) degrees, ``files`` relative to the database folder, ``grid``
-    (n, 3) grid indices or None, ``lines`` the line of each row in ``path``."""
+    """The rows of an entries file in file order: ``xyz_mm`` (n, 3) millimetres and
+    ``heading_deg`` (n,) degrees (NaN where the row has none), ``files`` relative to the
+    database folder, ``grid`` (n, 3) grid indices or None, ``lines`` the line of each row in
+    ``path``, ``time_ms`` (n,) its ``Timestamp [ms]`` (NaN where it is no number) or None."""
 
     path: Path
     xyz_mm: NDArray[np.float64]
@@ -54,10 +60,23 @@ class Entries:
     files: tuple[str, ...]
     grid: NDArray[np.int64] | None
     lines: tuple[int, ...]
+    time_ms: NDArray[np.float64] | None = None
 
     def where(self, k: int) -> str:
         """``file:line`` of row ``k``."""
         return f"{self.path}:{self.lines[k]}"
+
+    def rows(self, kept: NDArray[np.int64]) -> Entries:
+        """The rows ``kept`` (indices, in order) of these."""
+        return Entries(
+            path=self.path,
+            xyz_mm=self.xyz_mm[kept],
+            heading_deg=self.heading_deg[kept],
+            files=tuple(self.files[k] for k in kept),
+            grid=None if self.grid is None else self.grid[kept],
+            lines=tuple(self.lines[k] for k in kept),
+            time_ms=None if self.time_ms is None else self.time_ms[kept],
+        )
 
 
 def read_entries(path: Path) -> Entries:
@@ -115,23 +134,25 @@ def _columns(path: Path, names: list[str]) -> dict[str, int]:
 
 def _entries(path: Path, columns: dict[str, int], rows: list[tuple[int, list[str]]]) -> Entries:
     """The parsed ``rows`` (line, cells)."""
-    xyz, heading, files, grid = [], [], [], []
+    xyz, heading, files, grid, time = [], [], [], [], []
     has_grid = GRID[0] in columns
     for line, cells in rows:
         where = f"{path}:{line}"
         x, y, z = (_number(cells[columns[name]], name, where) for name in POSITION)
         h = _number(cells[columns[HEADING]], HEADING, where)
         for name, value in ((POSITION[0], x), (POSITION[1], y), (HEADING, h)):
-            if not math.isfinite(value):
+            if math.isinf(value):
                 raise DataError(
-                    f"{where}: {name} is {cells[columns[name]] or 'empty'}: every image needs "
-                    "a finite position and heading"
+                    f"{where}: {name} is {cells[columns[name]]}: a position or heading is a "
+                    "finite number, or empty or nan where there is none"
                 )
         xyz.append((x, y, z))
         heading.append(h)
         files.append(_file_name(cells[columns[FILENAME]], where))
         if has_grid:
             grid.append([_index(cells[columns[name]], name, where) for name in GRID])
+        if TIMESTAMP in columns:
+            time.append(_time(cells[columns[TIMESTAMP]]))
     return Entries(
         path=path,
         xyz_mm=np.array(xyz, dtype=np.float64),
@@ -139,6 +160,7 @@ def _entries(path: Path, columns: dict[str, int], rows: list[tuple[int, list[str
         files=tuple(files),
         grid=np.array(grid, dtype=np.int64) if has_grid else None,
         lines=tuple(line for line, _ in rows),
+        time_ms=np.array(time, dtype=np.float64) if TIMESTAMP in columns else None,
     )
 
 
@@ -150,6 +172,14 @@ def _number(cell: str, column: str, where: str) -> float:
         return float(cell)
     except ValueError:
         raise DataError(f"{where}: {column} {cell!r} is not a number") from None
+
+
+def _time(cell: str) -> float:
+    """The timestamp in ``cell``; NaN where it is none (an extra column: not an error)."""
+    try:
+        return float(cell)
+    except ValueError:
+        return math.nan
 
 
 def _index(cell: str, column: str, where: str) -> int:

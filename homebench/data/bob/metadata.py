@@ -12,17 +12,20 @@ BoB robotics' ImageDatabase writes (OpenCV FileStorage YAML)::
        needsUnwrapping: 1              # raw images; 0: unwrapped panoramas
        isGreyscale: 0
 
-and its unwrapper adds ``unwrapper: {centre: [0.5, 0.5], inner: 0.1, outer: 0.5,
-offsetDegrees: 0, flip: 0}`` (centre as fractions of the width and height, radii as fractions
-of the height) to the databases it unwraps; a video database names its ``videoFile``. Other
-keys (the recorder's git commits, a user's sensors) are ignored. Where ``needsUnwrapping`` is
+(``grid`` as BoB's ``GridRecorder`` writes it, ``src/navigation/image_database.cc``: the row
+labelled (a, b, c), each label below ``size``, gets the position ``beginAtMM + separationMM *
+(a, b, c)``, ``GridRecorder::getPosition``), and its unwrapper adds ``unwrapper: {centre:
+[0.5, 0.5], inner: 0.1, outer: 0.5, offsetDegrees: 0, flip: 0}`` (centre as fractions of the
+width and height, radii as fractions of the height) to the databases it unwraps; a video
+database names its ``videoFile``. Other keys (the recorder's git commits, a user's sensors)
+are ignored. Where ``needsUnwrapping`` is
 missing, ``camera.isPanoramic`` says it, as in BoB.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Literal, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
@@ -30,6 +33,9 @@ from homebench.data.bob.filestorage import read_filestorage
 from homebench.data.manifest import FloatPair, IntPair
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
+T = TypeVar("T")
+#: x, y (and z): BoB writes three values, homebench reads the first two.
+_Triple = Annotated[tuple[T, ...], Field(min_length=2, max_length=3)]
 
 
 class _Loose(BaseModel):
@@ -44,6 +50,15 @@ class CameraInfo(_Loose):
     name: str | None = None
     resolution: IntPair | None = None
     is_panoramic: bool | None = Field(None, alias="isPanoramic")
+
+
+class GridInfo(_Loose):
+    """``metadata.grid``: the recorder's grid, x, y, z (the first two are read). Any key may
+    be left out."""
+
+    begin_mm: _Triple[Finite] | None = Field(None, alias="beginAtMM")
+    separation_mm: _Triple[Finite] | None = Field(None, alias="separationMM")
+    size: _Triple[Annotated[int, Field(ge=1)]] | None = None
 
 
 class Unwrapper(_Loose):
@@ -69,6 +84,7 @@ class Metadata(_Loose):
     """``metadata``: the keys homebench reads."""
 
     type: Literal["grid", "route"] | None = None
+    grid: GridInfo | None = None
     camera: CameraInfo | None = None
     needs_unwrapping_key: bool | None = Field(None, alias="needsUnwrapping")
     unwrapper: Unwrapper | None = None

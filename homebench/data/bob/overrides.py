@@ -3,12 +3,15 @@
 An optional ``homebench.yaml`` in the database folder, or the same keys given as a
 :class:`BobOverrides` (a run config's database entry), states the camera model where the
 metadata gives none (unwrapped images: no vertical field of view; raw images: no elevations),
-how the headings are written, the order of a grid's labels and the database's name::
+how the headings are written, the order of a grid's labels, what to do with rows without a
+pose and the database's name::
 
     name: antworld-grid                  # default: the folder's name
     description: "Ant World, 1 m grid"
     headings: {zero_deg: 90, direction: cw}   # BoB's compass bearings (the default)
     grid: {order: bob-recorder}          # as-written (default) | transposed | bob-recorder
+    missing_poses: interpolate           # skip (default) | interpolate: rows without X, Y or
+                                         # Heading (:mod:`.gaps`)
     images:
       unfolded:                          # images that need no unwrapping
         panorama: {elevation_top_deg: 60, elevation_bottom_deg: -15, direction: ccw,
@@ -28,7 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
@@ -94,6 +97,10 @@ class GridOverride(_Strict):
     order: GridOrder = "as-written"
 
 
+#: What to do with rows without a position or heading (:mod:`homebench.data.bob.gaps`).
+MissingPoses = Literal["skip", "interpolate"]
+
+
 class BobOverrides(_Strict):
     """``homebench.yaml`` of a Brains on Board database: see the module docstring."""
 
@@ -101,6 +108,7 @@ class BobOverrides(_Strict):
     description: str | None = None
     headings: HeadingsOverride | None = None
     grid: GridOverride | None = None
+    missing_poses: MissingPoses | None = None
     images: ImageOverrides | None = None
 
     def over(self, base: BobOverrides | None) -> BobOverrides:

@@ -3,14 +3,13 @@
 Positions become metres (mm / 1000; Z is not used). Headings are read as BoB writes them,
 compass bearings (0 along +y, growing clockwise: :mod:`.conventions`), and become homebench's
 (degrees ccw from +x, in [0, 360): 90 - h); ``headings`` in ``homebench.yaml`` states another
-convention. Each image keeps its own. A grid database (``type: grid`` in the metadata, or Grid
-columns and no metadata) maps Grid X, Grid Y onto homebench's grid index (i, j): every index
-of the grid it spans once, one Grid Z layer, the positions on a regular grid
-(:func:`homebench.data.grid_fit.fit_grid`); ``grid.order`` says which position each label was
-taken at (:mod:`homebench.data.grid_order`: the positions of a grid read in another order
-than as written are those of the grid the labels fit). A route database keeps its poses in
-file order. No file it reads may lie outside the folder through a symbolic link (a link
-inside it, or a folder that is one, is fine).
+convention. Each image keeps its own. Rows without a position or heading are left out or
+filled (``missing_poses``: :mod:`.gaps`). A grid database (``type: grid`` in the metadata, or
+Grid columns and no metadata) maps Grid X, Grid Y onto homebench's grid index (i, j) (:mod:`.grid`):
+each label once, one Grid Z layer, the positions on a regular grid, ``grid.order`` saying
+which position each label was taken at, shifted to start at 0, positions without an image
+holes. A route database keeps its poses in file order. No file it reads may lie outside the
+folder through a symbolic link (a link inside it, or a folder that is one, is fine).
 """
 
 from __future__ import annotations
@@ -27,16 +26,15 @@ from homebench.data.bob.camera import camera_model
 from homebench.data.bob.conventions import ANT_WORLD_CAMERA, BOB_HEADINGS
 from homebench.data.bob.entries import HEADING as HEADING_COLUMN
 from homebench.data.bob.entries import Entries, read_entries
+from homebench.data.bob.gaps import keep_posed
+from homebench.data.bob.grid import GridReading, read_grid
 from homebench.data.bob.layout import DESCRIPTION_FILES, ENTRIES_NAME, METADATA_NAME, OVERRIDES_NAME
 from homebench.data.bob.metadata import Metadata, read_metadata
 from homebench.data.bob.overrides import BobOverrides, HeadingsOverride, read_overrides
-from homebench.data.grid_fit import fit_grid
-from homebench.data.grid_order import GridOrder, position_of, position_shape
-from homebench.data.manifest import MAX_GRID_POSITIONS
-from homebench.data.posed import PosedDatabase, listed
+from homebench.data.grid_order import GridOrder
+from homebench.data.posed import PosedDatabase
 from homebench.errors import DataError
 from homebench.fileio import check_image
-from homebench.geometry import Grid
 
 Stamp = tuple[int, int, int] | None
 
@@ -79,19 +77,26 @@ def _open(folder: Path, stamps: tuple[Stamp, ...], overrides: BobOverrides | Non
             "ImageDatabase::unwrap does)"
         )
     is_grid = _is_grid(metadata, entries, folder)
-    size = (metadata.resolution if metadata else None) or _size(folder / entries.files[0])
     overrides_name = str(folder / OVERRIDES_NAME)
+    headings = (merged.headings or HeadingsOverride()).over(BOB_HEADINGS)
+    kept = keep_posed(entries, merged.missing_poses or "skip", is_grid, headings, overrides_name)
+    entries = kept.entries
+    size = (metadata.resolution if metadata else None) or _size(folder / entries.files[0])
     camera = camera_model(metadata, merged, size, str(folder / METADATA_NAME), overrides_name)
     xy = entries.xyz_mm[:, :2] / 1000.0
-    headings = (merged.headings or HeadingsOverride()).over(BOB_HEADINGS)
     notes = list(camera.notes)
     if merged.headings is None or None in (merged.headings.zero_deg, merged.headings.direction):
         notes.append(_headings_note(overrides_name))
-    grid, index, in_doubt = None, None, False
+    notes += [kept.note] if kept.note else []
+    reading: GridReading | None = None
+    in_doubt = False
     order: GridOrder = "as-written"
     if is_grid:
         order = merged.grid.order if merged.grid is not None else "as-written"
-        grid, index, xy = _grid(entries, xy, order)
+        info = metadata.grid if metadata is not None else None
+        reading = read_grid(entries, xy, order, info, str(folder / METADATA_NAME))
+        xy = reading.xy
+        notes += reading.notes
         in_doubt = merged.grid is None and metadata is not None and _is_ant_world(metadata)
         if in_doubt:
             notes.append(_order_note(overrides_name))
@@ -108,12 +113,15 @@ def _open(folder: Path, stamps: tuple[Stamp, ...], overrides: BobOverrides | Non
         files=entries.files,
         listing=ENTRIES_NAME,
         own_files=tuple(name for name in DESCRIPTION_FILES if (folder / name).exists()),
-        grid=grid,
-        grid_index=index,
+        grid=reading.grid if reading else None,
+        grid_index=_read_only(reading.index) if reading else None,
         grid_order=order,
         order_in_doubt=in_doubt,
+        labels=reading.labels if reading else None,
         headings=headings,
+        skipped_files=kept.skipped,
         notes=tuple(notes),
+        warnings=reading.warnings if reading else (),
     )
 
 
@@ -183,49 +191,6 @@ def _size(first: Path) -> tuple[int, int]:
     """The size of the first image, where the metadata gives no resolution."""
     header = check_image(first)
     return header.width, header.height
-
-
-def _grid(
-    entries: Entries, xy: NDArray[np.float64], order: GridOrder
-) -> tuple[Grid, NDArray[np.int64], NDArray[np.float64]]:
-    """The grid of a grid database, each image's index (i, j) on it, shape (n, 2), and its
-    position, (n, 2) metres: as written, or where ``order`` puts the image's label."""
-    assert entries.grid is not None
-    layers = np.unique(entries.grid[:, 2])
-    if layers.size > 1:
-        values = listed([str(z) for z in layers])
-        raise DataError(
-            f"{entries.path}: Grid Z takes {layers.size} values ({values}): homebench reads "
-            "grids of one layer"
-        )
-    ij = _read_only(entries.grid[:, :2])
-    nx, ny = (int(n) + 1 for n in ij.max(axis=0))
-    if nx * ny > MAX_GRID_POSITIONS:
-        raise DataError(
-            f"{entries.path}: Grid X, Grid Y span a {nx} x {ny} grid; at most "
-            f"{MAX_GRID_POSITIONS:,} positions are allowed"
-        )
-    first: dict[tuple[int, int], int] = {}
-    for k, (i, j) in enumerate(ij.tolist()):
-        if (i, j) in first:
-            raise DataError(
-                f"{entries.where(k)}: grid position ({i}, {j}) again (first on line "
-                f"{entries.lines[first[(i, j)]]})"
-            )
-        first[(i, j)] = k
-    if len(first) < nx * ny:
-        missing = [f"({i}, {j})" for i in range(nx) for j in range(ny) if (i, j) not in first]
-        raise DataError(
-            f"{entries.path}: no image of grid position(s) {listed(missing)} of the {nx} x {ny} "
-            "grid that Grid X, Grid Y span"
-        )
-    labels = fit_grid(xy, ij, str(entries.path), entries.where)
-    if order == "as-written":
-        return labels, ij, xy
-    shape = position_shape(order, labels.shape)
-    index = np.array([position_of(order, (i, j), shape) for i, j in ij.tolist()], np.int64)
-    grid = Grid(shape, labels.spacing, labels.origin)
-    return grid, _read_only(index), grid.position(index[:, 0], index[:, 1])
 
 
 def _read_only(array: NDArray) -> NDArray:

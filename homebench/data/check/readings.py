@@ -30,13 +30,12 @@ from homebench.data.database import GridDatabase
 from homebench.data.grid_order import (
     GRID_ORDERS,
     GridOrder,
-    label_of,
-    label_shape,
+    Index,
     position_of,
     position_shape,
     same_mapping,
 )
-from homebench.geometry import Direction, Grid, home_direction
+from homebench.geometry import Direction, home_direction
 
 FloatArray = NDArray[np.float64]
 
@@ -73,19 +72,19 @@ def order_truths(db: GridDatabase, pairs: Sequence[NeighbourPair]) -> dict[str, 
     were the images' labels read in each order (orders that map the grid's labels alike
     once, under one name: the stated first, then BoB's recorder's where the labels are in
     doubt)."""
-    stated, shape = db.grid_order, db.grid.shape
-    labels = label_shape(stated, shape)
-    orders: list[GridOrder] = [stated]
+    labels = db.label_grid  # the labels' whole grid: a block cut from one maps through it
+    shape = position_shape(db.grid_order, labels.shape)
+    orders: list[GridOrder] = [db.grid_order]
     for order in sorted(GRID_ORDERS, key=lambda o: db.order_in_doubt and o != "bob-recorder"):
         if not any(same_mapping(order, seen, shape) for seen in orders):
             orders.append(order)
     headings = np.array([db.heading(*p.current) for p in pairs])
     truths: dict[str, FloatArray] = {}
     for order in orders:
-        grid = Grid(position_shape(order, labels), db.grid.spacing, db.grid.origin)
+        positions = position_shape(order, labels.shape)
 
-        def where(ij: tuple[int, int], order: GridOrder = order, grid: Grid = grid) -> FloatArray:
-            return grid.position(*position_of(order, label_of(stated, ij, shape), grid.shape))
+        def where(ij: Index, order: GridOrder = order, positions: Index = positions) -> FloatArray:
+            return labels.position(*position_of(order, db.label(*ij), positions))
 
         current = np.array([where(p.current) for p in pairs])
         goal = np.array([where(p.goal) for p in pairs])
