@@ -179,9 +179,7 @@ class LegRun:
         )
 
 
-def take_view(
-    look: Look, robot: Robot, result: PairwiseHoming
-) -> NDArray[np.uint8] | PoseFault:
+def take_view(look: Look, robot: Robot, result: PairwiseHoming) -> NDArray[np.uint8] | PoseFault:
     """The robot's grey view at its pose as the next frame, or, where the scene cannot show
     it, why ("collision" or "outside")."""
     try:
