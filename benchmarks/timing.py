@@ -1,6 +1,7 @@
 """The timing rule every benchmark script shares (imported as ``from timing import
 cpu_and_wall``; the scripts run from the repository root as ``python benchmarks/bench_x.py``):
-process CPU and wall time per call, a floor measured in the same process, the load average.
+process CPU and wall time per call, a floor measured in the same process, the load average,
+and a parallel run's speed-up only where other work left it the cores (:func:`speedup`).
 
 A script that times what runs in job workers (a method's ``describe`` and ``home``, a route
 trial) first calls :func:`as_in_job_workers`, so that it allocates as they do
@@ -12,10 +13,12 @@ process does too) leave the defaults.
 
 from __future__ import annotations
 
+import math
 import os
 import resource
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 from homebench.evaluation.worker import keep_freed_memory
@@ -69,6 +72,36 @@ def print_figures(figures: dict[str, tuple[float, float]], floor: str) -> None:
     base = figures[floor][0]
     for label, (cpu, wall) in figures.items():
         print(f"  {label:{width}s} {1000 * cpu:9.3f} {1000 * wall:9.3f} {cpu / base:8.2f}")
+
+
+def machine_cpu_s() -> float:
+    """CPU seconds the whole machine has spent busy since boot (``/proc/stat``: user, nice,
+    system, irq, softirq and steal time over all cores); NaN where there is no such file."""
+    try:
+        fields = Path("/proc/stat").read_text().splitlines()[0].split()[1:]
+    except OSError:
+        return math.nan
+    busy = sum(int(fields[k]) for k in (0, 1, 2, 5, 6, 7))
+    return busy / os.sysconf("SC_CLK_TCK")
+
+
+def others_cores(wall: float, own_cpu: float, machine_before: float) -> float:
+    """Cores other processes kept busy, on average, over a span of ``wall`` seconds in which
+    this process and its children spent ``own_cpu`` seconds (``machine_before``: what
+    :func:`machine_cpu_s` said at its start)."""
+    return max(0.0, (machine_cpu_s() - machine_before - own_cpu) / wall)
+
+
+def speedup(serial_wall: float, parallel_wall: float, workers: int, others: float) -> str:
+    """``serial_wall / parallel_wall`` as text, with the cores other work kept busy during the
+    parallel run (``others``, :func:`others_cores`) beside it; "not measurable" where that
+    work held cores the ``workers`` needed (more than the cores less the workers, plus half
+    a core): a wall-time ratio then measures the other work as much as the run, and can
+    exceed the worker count."""
+    cores = len(os.sched_getaffinity(0))
+    if math.isnan(others) or others > cores - workers + 0.5:
+        return f"not measurable (other work kept {others:.1f} of {cores} cores busy)"
+    return f"{serial_wall / parallel_wall:.2f} (other work {others:.1f} of {cores} cores)"
 
 
 def load() -> str:

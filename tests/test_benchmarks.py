@@ -17,6 +17,9 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Each script and its smallest arguments.
 SCRIPTS = {
     "bench_baselines.py": ["--widths", "144", "--repeats", "1"],
+    "bench_block_matching.py": ["--pairs", "2"],
+    "bench_config.py": ["configs/quickstart.yaml", "--jobs", "2", "--no-report"],
+    "bench_first_call.py": ["--methods", "block-matching"],
     "bench_generate.py": ["--grid", "2", "3"],
     "bench_isolation.py": ["--calls", "20"],
     "bench_klt.py": ["--repeats", "1", "--steps", "3"],
@@ -26,6 +29,7 @@ SCRIPTS = {
     "bench_run.py": ["--goals", "1", "--methods", "warping"],
     "bench_sift.py": ["--repeats", "1"],
     "bench_sweep.py": ["--goals", "1"],
+    "bench_threads.py": ["--rounds", "1", "--pairs", "2", "--methods", "warping", "did"],
     "bench_warping.py": ["--repeats", "1"],
     "bench_warping_2d.py": ["--rounds", "1", "--pairs", "4"],
 }

@@ -7,6 +7,10 @@ summed unit vectors are symmetric about beta up to the sampling of the two sign 
 blocks (3.75 deg apart: under 2 deg). Blocks near the two foci move less than a column and give
 no vector, and the odd wrong match (repeated texture) bends the sum by a few degrees more.
 Measured on these pairs: at most 4.6 deg; mean 1.5 deg over the 5 x 5 lattice.
+
+The compiled block search is held to the numpy search it replaced (:func:`reference_flow`),
+flow for flow: random and rendered bands, ties (whole grey levels, flat patches) and block
+sizes from 1 to the largest.
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
 from homebench.methods.block_matching import (
+    LARGEST_BLOCK,
     BlockMatching,
     block_flow,
     displacements,
@@ -31,6 +36,59 @@ from homebench.methods.block_matching import (
 TOLERANCE = math.radians(10.0)
 GOAL = Pose(0.2, -0.3, 0.4)
 ALIGNED = BlockMatching()
+
+
+def reference_flow(current, goal, block_size, centres, candidates):
+    """The numpy block search the compiled one replaced (as :func:`block_flow`): every
+    candidate's sums of squared differences of all blocks at once, then the first smallest."""
+    n = current.shape[1]
+    top = (current.shape[0] - block_size) // 2
+    half = block_size // 2
+    block = current[top : top + block_size]  # (b, n)
+    columns = (centres[:, None] + np.arange(-half, half + 1)[None, :]) % n  # (m, b)
+    cost = np.empty((len(candidates), centres.size))
+    for i, (dy, dx) in enumerate(candidates):
+        shifted = goal[top + dy : top + dy + block_size, (columns + dx) % n]  # (b, m, b)
+        cost[i] = np.sum((shifted - block[:, columns]) ** 2, axis=(0, 2))
+    return candidates[np.argmin(cost, axis=0), 1]
+
+
+@pytest.mark.parametrize(
+    ("block_size", "vertical", "radius", "step"),
+    [(7, 3, 30, 2), (1, 0, 5, 1), (3, 1, 12, 3), (5, 2, 40, 1), (9, 1, 20, 2), (11, 0, 7, 5),
+     (17, 2, 30, 4), (23, 1, 9, 7), (LARGEST_BLOCK, 1, 6, 25)],
+)  # fmt: skip
+@pytest.mark.parametrize("whole", [False, True])
+def test_the_compiled_search_gives_the_reference_flow(block_size, vertical, radius, step, whole):
+    """Random bands of a wide range of grey levels (so that a different order of the sums
+    would change costs), the current one rolled and noisy; with ``whole`` grey levels, and a
+    flat patch in both, many costs tie exactly."""
+    rng = np.random.default_rng(block_size + 100 * vertical)
+    n = max(96, 2 * radius + 2, 2 * block_size)
+    goal = rng.uniform(0.0, 255.0, (block_size + 2 * vertical, n)) ** rng.uniform(0.5, 3.0)
+    current = np.roll(goal, radius // 2, axis=1) + rng.normal(0.0, 5.0, goal.shape)
+    if whole:
+        goal, current = np.round(goal), np.round(current)
+        goal[:, : n // 3], current[:, : n // 3] = 90.0, 90.0
+    centres = np.arange(0, n, step)
+    candidates = displacements(radius, vertical)
+    np.testing.assert_array_equal(
+        block_flow(current, goal, block_size, centres, candidates),
+        reference_flow(current, goal, block_size, centres, candidates),
+    )
+
+
+def test_the_compiled_search_gives_the_reference_flow_on_rendered_views():
+    goal = ALIGNED.describe(render(GOAL))
+    centres = np.arange(0, ALIGNED.n_columns, ALIGNED.block_step)
+    candidates = displacements(ALIGNED.search_radius, ALIGNED.vertical_radius)
+    for dx, dy in [(0.3, 0.0), (-0.6, 0.3), (0.1, -0.9)]:
+        current = ALIGNED.describe(render(Pose(GOAL.x + dx, GOAL.y + dy, GOAL.heading)))
+        current.flags.writeable = False  # as feature files are read
+        np.testing.assert_array_equal(
+            block_flow(current, goal, ALIGNED.block_size, centres, candidates),
+            reference_flow(current, goal, ALIGNED.block_size, centres, candidates),
+        )
 
 
 def test_displacements_put_no_displacement_first_and_small_ones_before_large():
@@ -140,7 +198,12 @@ def test_registered_with_the_defaults():
 
 @pytest.mark.parametrize(
     "params",
-    [{"block_size": 6}, {"search_radius": 96}, {"block_step": 0}],
+    [
+        {"block_size": 6},
+        {"block_size": LARGEST_BLOCK + 2},
+        {"search_radius": 96},
+        {"block_step": 0},
+    ],
 )
 def test_bad_parameters_are_config_errors(params):
     with pytest.raises(ConfigError):

@@ -9,10 +9,12 @@ whose fields are its parameters (with the papers' defaults), registered under a 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
 
+from homebench.methods.threads import single_threaded
 from homebench.views import ImageKind, View
 
 __all__ = ["HomingEstimate", "HomingMethod", "ImageKind", "RouteShape", "View"]
@@ -58,6 +60,11 @@ class HomingMethod(Protocol):
     the class attribute ``gives_direction = False``: its pairs then have no direction metric
     (AE, AHC, RR, catchment: n/a everywhere), only its rotation error.
 
+    Registering a method (:func:`~homebench.methods.registry.register`) makes these calls,
+    ``home_many``, ``describe_route`` and the route-memory ones run with one BLAS / OpenMP
+    thread in any process, the caller's settings given back after each
+    (:mod:`~homebench.methods.threads`).
+
     A method whose module imports heavy modules only when they first run (compiled numba
     kernels: importing numba costs a third of a second of CPU) names them in the class
     attribute ``preload_modules`` (a tuple of module names); the worker server of a run with
@@ -95,6 +102,7 @@ def batch_home(method: Any) -> BatchHome | None:
     return getattr(method, "home_many", None)
 
 
+@single_threaded  # once for the batch: the calls within pay a counter, not the limit's cost
 def home_many(
     method: Any, currents: Sequence[Any], goal: Any, **extra: Sequence[Any]
 ) -> list[HomingEstimate]:
@@ -113,3 +121,25 @@ def home_many(
 def gives_direction(method: type) -> bool:
     """Whether the method class answers home directions (``gives_direction``, default True)."""
     return bool(getattr(method, "gives_direction", True))
+
+
+def checked_estimate(answer: Any, call: str = "home") -> HomingEstimate:
+    """``answer`` of a method's ``call`` ("home", "home_many") if it is a
+    :class:`HomingEstimate` whose angle and rotation are finite numbers (radians) or None;
+    TypeError naming what it is otherwise ("home_many answered a str, not a
+    HomingEstimate"), ValueError for an angle or rotation that is no finite number."""
+    if not isinstance(answer, HomingEstimate):
+        raise TypeError(f"{call} answered a {type(answer).__name__}, not a HomingEstimate")
+    for name in ("angle", "rotation"):
+        value = getattr(answer, name)
+        if value is None:
+            continue
+        try:
+            number = None if isinstance(value, str | bytes) else float(value)
+        except (TypeError, ValueError):
+            number = None
+        if number is None:
+            raise TypeError(f"{call} answered a {type(value).__name__} {name}, not a number")
+        if not math.isfinite(number):
+            raise ValueError(f"{call} answered {name} {number}, not a finite number of radians")
+    return answer

@@ -169,6 +169,7 @@ class MinWarping:
     image_kind: ClassVar[ImageKind] = "unfolded"
     preload_modules: ClassVar[tuple[str, ...]] = (
         "homebench.methods.min_warping_kernels",
+        "homebench.methods.min_warping_preload",
         "homebench.methods.jit_setup",
     )
 

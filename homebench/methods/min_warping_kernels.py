@@ -27,11 +27,10 @@ directory). A run's worker server imports this module before it forks the worker
 install compiles once there (3-4 s of CPU) instead of once in every worker, and later
 processes load the cache. Inputs are declared read-only (feature files are read into read-only
 arrays; writable ones convert), and an argument of another type is a TypeError, never a
-silent compilation in a worker. Importing this module also traces the default parameters'
-admissible pairs (:func:`~homebench.methods.min_warping_search.search_template`, kept per
-process), which every worker would otherwise trace at its first pair (0.2-0.3 s).
-:mod:`~homebench.methods.min_warping` imports this module at its first compiled search, so that
-a process that only lists or checks methods does not import numba (a third of a second of CPU).
+silent compilation in a worker. :mod:`~homebench.methods.min_warping` imports this module at
+its first compiled search, so that a process that only lists or checks methods does not import
+numba (a third of a second of CPU); warping-2d's scale-plane scheme imports it for the stack
+and its table (loading the five kernels takes 0.04 s).
 """
 
 from __future__ import annotations
@@ -40,8 +39,7 @@ import numpy as np
 from numba import njit, types
 from numpy.typing import NDArray
 
-from homebench.methods.min_warping import STACK_MAX, MinWarping
-from homebench.methods.min_warping_search import search_template
+from homebench.methods.min_warping import STACK_MAX
 
 U8Array = NDArray[np.uint8]
 IntArray = NDArray[np.intp]
@@ -341,9 +339,3 @@ def table_costs(
         for pair in range(m):
             out[pair] += low[pair]
     return out
-
-
-# The default parameters' admissible pairs, traced where this module is imported: in a worker
-# server before it forks, so that no worker traces them again.
-_DEFAULT = MinWarping()
-search_template(_DEFAULT.band_columns, _DEFAULT.n_scales, _DEFAULT.max_scale)

@@ -29,6 +29,7 @@ from typing import Any, TypeVar
 
 from homebench.errors import ConfigError, HomebenchError
 from homebench.methods.param_types import check_parameters
+from homebench.methods.threads import limit_calls
 from homebench.suggest import did_you_mean, unknown
 
 T = TypeVar("T")
@@ -45,12 +46,14 @@ class PluginError(HomebenchError):
 
 
 def register(cls: type[T]) -> type[T]:
-    """Class decorator: register a method dataclass under its ``name``."""
+    """Class decorator: register a method dataclass under its ``name``; its calls then run with
+    one BLAS / OpenMP thread in any process (:mod:`~homebench.methods.threads`)."""
     if not dataclasses.is_dataclass(cls):
         raise TypeError(f"{cls.__name__} must be a dataclass (its fields are its parameters)")
     name = cls.name  # type: ignore[attr-defined]
     if name in _REGISTRY and _REGISTRY[name] is not cls:
         raise ValueError(f"method name {name!r} is registered twice")
+    limit_calls(cls)
     _REGISTRY[name] = cls
     return cls
 
