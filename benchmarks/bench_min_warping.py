@@ -3,8 +3,10 @@
 For goal (5, 9) of a generated 10 x 17 grid of 288 x 72 panoramas against every other position
 (see ``benchmarks/peer.py``), in alternated rounds (medians reported, with the load at the
 start of each round; ratios CPU over CPU): the process CPU and wall time per pair of ``home``
-(``describe`` excluded, as in the peer's figures), with double and fine search (the default)
-and with both off,
+(``describe`` excluded: homebench describes each view once, while the peer's time per pair, as
+``peer.py``'s driver measures it, includes its first phase, the edge filter and the scale-plane
+stack, on both images of every pair; so these ratios favour homebench by that phase), with
+double and fine search (the default) and with both off,
 
 - in this plain Python process (as the API, a notebook or a benchmark calls it) and in an
   isolated job worker (forked from a worker server, the workers' allocator settings);

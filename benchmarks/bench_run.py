@@ -35,7 +35,7 @@ import time
 from pathlib import Path
 
 import cv2
-from timing import cpu_with_children
+from timing import cpu_with_children, machine_cpu_s, others_cores, speedup
 
 from homebench.config import RunConfig
 from homebench.data.catalog import ensure_generated
@@ -123,15 +123,15 @@ def floor_in_worker(jobs: tuple[HomeJob, ...], batch: bool = False) -> tuple[flo
     return result
 
 
-def timed_run(config: RunConfig, jobs: int) -> tuple[RunOutcome, float, float]:
-    """One fresh run: its outcome, and its wall and CPU seconds (this process and its
-    workers); SystemExit if a job failed."""
-    wall, cpu = time.perf_counter(), cpu_with_children()
+def timed_run(config: RunConfig, jobs: int) -> tuple[RunOutcome, float, float, float]:
+    """One fresh run: its outcome, its wall and CPU seconds (this process and its workers)
+    and the cores other processes kept busy meanwhile; SystemExit if a job failed."""
+    machine, wall, cpu = machine_cpu_s(), time.perf_counter(), cpu_with_children()
     outcome = run_plan(config, Path("bench"), Execution(jobs=jobs), show_progress=False)
     wall, cpu = time.perf_counter() - wall, cpu_with_children() - cpu
     if outcome.failures:
         raise SystemExit(f"{len(outcome.failures)} job(s) failed: {outcome.failures[0].error}")
-    return outcome, wall, cpu
+    return outcome, wall, cpu, others_cores(wall, cpu, machine)
 
 
 def _measure(
@@ -155,7 +155,7 @@ def _medians(measured: list[tuple]) -> tuple:
     """The median of each figure of :func:`_measure`'s results over repeats (pairs: the same)."""
     floors = tuple(statistics.median(m[0][k] for m in measured) for k in (0, 1))
     runs = {
-        n: tuple(statistics.median(m[2][n][k] for m in measured) for k in (0, 1)) for n in (1, 2)
+        n: tuple(statistics.median(m[2][n][k] for m in measured) for k in (0, 1, 2)) for n in (1, 2)
     }
     return floors, measured[0][1], runs
 
@@ -165,12 +165,11 @@ def _spread(measured: list[tuple]) -> str:
     if len(measured) < 2:
         return ""
     ratios = {n: [m[2][n][1] / m[0][1] for m in measured] for n in (1, 2)}
-    speed = [m[2][1][0] / m[2][2][0] for m in measured]
     return (
         "  ["
         + "; ".join(
             f"{label} {min(v):.2f}-{max(v):.2f}"
-            for label, v in (("j1", ratios[1]), ("j2", ratios[2]), ("speed-up", speed))
+            for label, v in (("j1", ratios[1]), ("j2", ratios[2]))
         )
         + "]"
     )
@@ -184,11 +183,14 @@ def main() -> None:
     args = parser.parse_args()
     ensure_generated(DATABASE, jobs=2)
     print("per pair: process CPU ms (this process and its workers for the runs); whole runs: s;")
-    print("ratio: a run's CPU over the floor's / over the batch floor's; speed-up: j1 over j2 wall")
+    print(
+        "ratio: a run's CPU over the floor's / over the batch floor's; speed-up: j1 over j2 wall, "
+        "only where other work left the run 2 cores (timing.speedup)"
+    )
     print(
         f"{'method':<12} {'pairs':>5} {'floor CPU':>9} {'batch':>6} {'j1 CPU':>7} {'ratio':>9} "
-        f"{'j2 CPU':>7} {'ratio':>9} {'j1 wall':>7} {'j2 wall':>7} {'speed-up':>8} "
-        f"{'fixed CPU':>9} {'marginal':>9}  load before/after"
+        f"{'j2 CPU':>7} {'ratio':>9} {'j1 wall':>7} {'j2 wall':>7} "
+        f"{'fixed CPU':>9} {'marginal':>9}  load before/after; speed-up"
     )
     for name in args.methods:
         load = os.getloadavg()[0]
@@ -199,7 +201,7 @@ def main() -> None:
             ones = [_measure(Path(folder) / f"one{k}", name, 1) for k in range(FIXED_REPEATS)]
         floors, pairs, runs = _medians(measured)
         floor_ms, batch_ms = (1000.0 * floor / pairs for floor in floors)
-        per_pair = {n: 1000.0 * cpu / pairs for n, (_, cpu) in runs.items()}
+        per_pair = {n: 1000.0 * run[1] / pairs for n, run in runs.items()}
         ratios = {n: f"{per_pair[n] / floor_ms:.2f}/{per_pair[n] / batch_ms:.2f}" for n in runs}
         # beyond the batch floor, as the runs call the method
         fixed = {n: statistics.median(run[n][1] - one_floors[1] for one_floors, _, run in ones)
@@ -208,9 +210,10 @@ def main() -> None:
         print(
             f"{name:<12} {pairs:>5} {floor_ms:>9.2f} {batch_ms:>6.2f} {per_pair[1]:>7.2f} "
             f"{ratios[1]:>9} {per_pair[2]:>7.2f} {ratios[2]:>9} "
-            f"{runs[1][0]:>7.2f} {runs[2][0]:>7.2f} {runs[1][0] / runs[2][0]:>8.2f} "
+            f"{runs[1][0]:>7.2f} {runs[2][0]:>7.2f} "
             f"{fixed[1]:>4.2f}/{fixed[2]:>4.2f} {marginal[1]:>4.2f}/{marginal[2]:>4.2f}  "
-            f"{load:.2f}/{os.getloadavg()[0]:.2f}{_spread(measured)}",
+            f"{load:.2f}/{os.getloadavg()[0]:.2f}; {speedup(runs[1][0], runs[2][0], 2, runs[2][2])}"
+            f"{_spread(measured)}",
             flush=True,
         )
 
