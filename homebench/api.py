@@ -67,7 +67,7 @@ def run_grid(
     engine of ``homebench run``, whose options the keywords are (``jobs`` and ``timeout_s``
     default to the config's). ``show_progress`` shows the bars of world generation (on a
     terminal) and of the jobs."""
-    from homebench.data.generate import progress_bars
+    from homebench.data.progress import progress_bars
 
     config = load_config(Path(config_path), overrides)
     execution = Execution(

@@ -2,7 +2,8 @@
 
 The counts a config sets multiply: seeds x styles x conditions x method points x goals make a
 grid run's jobs, routes x lengths x repeats x methods a route run's trials, styles x goals x
-starts x labels a closed-loop run's. Each job or trial is a file of the run folder and a few
+starts x labels a closed-loop run's; a robot trial's frames are its route's length over the
+step (and its turns over the turn limit). Each job or trial is a file of the run folder and a few
 hundred bytes of the main process's memory from planning to the tables, each grid pair a row of
 ``pairs.csv`` (about 1 KB in memory), so the products are bounded, and a config beyond them is
 refused before anything is generated or run, naming the key that sets the most.
@@ -17,6 +18,11 @@ from collections.abc import Mapping
 MAX_JOBS = 1_000_000
 #: Most grid pairs of one run (rows of ``pairs.csv``; about 10 GB of tables in memory).
 MAX_PAIRS = 10_000_000
+#: Most frames (steps, views) of one robot trial: a route's outbound drive, a closed loop's
+#: steps, a goal's training views; each is a render in the worker and poses in the trial's file.
+MAX_TRIAL_FRAMES = 100_000
+#: Most frames of all of one run's trials (their poses are read back for the tables, as pairs).
+MAX_FRAMES = MAX_PAIRS
 #: Most AHC distance bins (each a mask over every pair; seed 001 has 13).
 MAX_AHC_BINS = 1000
 #: Most distance bands of the band table (each a mask over every pair; the default has 3).

@@ -2,13 +2,16 @@
 
 Exit codes: 0 success; 1 a crash (a bug: full traceback with ``--debug``) or failed jobs;
 2 a usage, config or data error, or a file the operating system refuses (one line naming the
-file or key); 3 a failed ``--check`` threshold (a regression, not a crash).
+file or key); 3 a failed ``--check`` threshold (a regression, not a crash); 130 stopped by
+Ctrl-C (one line: what a run saved).
 """
 
 from __future__ import annotations
 
 import errno
 import os
+import re
+import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -17,44 +20,71 @@ from typing import Any
 import click
 
 from homebench import __version__
-from homebench.errors import HomebenchError
+from homebench.address_space import check_run_space, reserve_less
+from homebench.errors import HomebenchError, Interrupted
 from homebench.report import DEFAULT_MAX_GOALS
 
 EXIT_ERROR = 2
 EXIT_CRASH = 1
 EXIT_CHECK = 3
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, as a shell reports it
 
 
 class _Group(click.Group):
     """Turns HomebenchError into one line and exit 2, and so an OSError (a run folder that is a
     file, a read-only disk, a symbolic link loop: the system refused, homebench has no bug);
-    any other exception is a crash, exit 1. A broken pipe is left to click."""
+    Ctrl-C into one line and exit 130; any other exception is a crash, exit 1. A broken pipe
+    is left to click."""
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
+        except Interrupted as error:
+            _say("", str(error))
+            ctx.exit(EXIT_INTERRUPTED)
+        except KeyboardInterrupt:
+            _say("", "interrupted")
+            ctx.exit(EXIT_INTERRUPTED)
         except HomebenchError as error:
             if ctx.find_root().params.get("debug"):
                 raise
-            for line in str(error).splitlines():
-                click.echo(f"homebench: error: {line}", err=True)
+            _say("error: ", str(error))
             ctx.exit(EXIT_ERROR)
         except (click.exceptions.ClickException, click.exceptions.Exit, click.Abort):
             raise
         except OSError as error:
             if ctx.find_root().params.get("debug") or error.errno == errno.EPIPE:
                 raise
-            click.echo(f"homebench: error: {_os_error_line(error)}", err=True)
+            _say("error: ", _os_error_line(error))
             ctx.exit(EXIT_ERROR)
         except Exception as error:
             if ctx.find_root().params.get("debug"):
                 raise
-            click.echo(
-                f"homebench: crash: {type(error).__name__}: {error} "
-                "(rerun with --debug for the traceback)",
-                err=True,
-            )
+            crash = f"{type(error).__name__}: {error}"
+            _say("crash: ", f"{crash} (rerun with --debug for the traceback)")
             ctx.exit(EXIT_CRASH)
+
+
+#: What a message must not print raw: control characters (a line feed starts a line of its
+#: own), lone surrogates (a file name's bytes that are no UTF-8).
+_UNPRINTABLE = re.compile("[\x00-\x09\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff]")
+
+
+def _escaped(match: re.Match[str]) -> str:
+    """A character of :data:`_UNPRINTABLE` as an escape: "\\x1b", "\\u2028"; a file name's
+    undecodable byte as the byte: "\\xff"."""
+    char = match[0]
+    if "\udc80" <= char <= "\udcff":  # os.fsdecode's surrogate escape of a byte
+        return f"\\x{ord(char) - 0xDC00:02x}"
+    return char.encode("unicode_escape").decode("ascii")
+
+
+def _say(kind: str, text: str) -> None:
+    """``text`` on stderr, each of its lines as ``homebench: <kind><line>``, with what may not
+    print raw escaped (:data:`_UNPRINTABLE`): a file name's bytes cannot move the cursor,
+    clear the screen or start a line that does not say it is homebench's."""
+    for line in _UNPRINTABLE.sub(_escaped, text).split("\n"):
+        click.echo(f"homebench: {kind}{line}", err=True)
 
 
 def _os_error_line(error: OSError) -> str:
@@ -69,6 +99,11 @@ def _os_error_line(error: OSError) -> str:
 @click.option("--debug", is_flag=True, help="Show full tracebacks instead of one-line errors.")
 def main(debug: bool) -> None:
     """Benchmark robot visual homing methods on panoramic grid image databases."""
+    reserve_less()  # before pyarrow loads
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        # A shell starts a script's background jobs with Ctrl-C ignored; a user (or a batch
+        # system) who sends homebench SIGINT all the same means it to stop.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 # --------------------------------------------------------------------------- data
@@ -116,7 +151,7 @@ def data_generate(
     """Generate DATABASE (a generated set's name or manifest) and print its folder."""
     from homebench.data.bob import write_bob
     from homebench.data.catalog import ensure_generated, generate_variant
-    from homebench.data.generate import progress_bars
+    from homebench.data.progress import progress_bars
     from homebench.errors import ConfigError
 
     bob = layout == "bob"
@@ -147,7 +182,7 @@ def data_verify(database: str, path: Path | None) -> None:
     if opened.posed is not None:
         report = verify_posed(opened.posed)
         for warning in report.warnings:
-            click.echo(f"homebench: warning: {warning}", err=True)
+            _say("warning: ", warning)
         click.echo(
             f"{opened.label}: {report.n_images} images OK in {report.root} "
             f"({opened.posed.layout()}; the format records no sums)"
@@ -155,7 +190,7 @@ def data_verify(database: str, path: Path | None) -> None:
         return
     report = verify(opened.database, find_manifest(database)[0])
     for warning in report.warnings:
-        click.echo(f"homebench: warning: {warning}", err=True)
+        _say("warning: ", warning)
     tolerated = len(report.within_tolerance)
     exact = len(report.checked) - tolerated
     click.echo(
@@ -197,7 +232,7 @@ def data_show(database: str, path: Path | None, out: Path, at: tuple[int, int] |
     out.mkdir(parents=True, exist_ok=True)
     if posed is not None:
         for warning in route_warnings(posed):
-            click.echo(f"homebench: warning: {opened.label}: {warning}", err=True)
+            _say("warning: ", f"{opened.label}: {warning}")
         written = write_pose_sheet(db, out / f"{db.name}_poses.png", sample[0], posed.layout())
         click.echo(f"{opened.label}: {posed.layout()}, not a grid; {written}")
         return
@@ -245,9 +280,9 @@ def _open_database(database: str, path: Path | None) -> Any:
 
     opened = open_database(database, path)
     for warning in opened.warnings:
-        click.echo(f"homebench: warning: {warning}", err=True)
+        _say("warning: ", warning)
     for note in opened.notes:
-        click.echo(f"homebench: note: {note}", err=True)
+        _say("note: ", note)
     return opened
 
 
@@ -318,8 +353,9 @@ def _run_experiment(
     outcome = run_kind(config, config_file, jobs=jobs, force=force, show_progress=not no_progress)
     if not outcome.table.empty:
         click.echo(outcome.table.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    failed = f", {len(outcome.failures)} failed" if outcome.failures else ""
     click.echo(
-        f"{outcome.computed} trial(s) computed, {outcome.reused} reused; "
+        f"{outcome.computed} trial(s) computed, {outcome.reused} reused{failed}; "
         f"table in {outcome.table_path}"
     )
     if not no_report and not outcome.table.empty:
@@ -328,7 +364,7 @@ def _run_experiment(
         report_files = write_report(outcome.run_dir, progress=not no_progress).files
         click.echo(f"report: {report_files[-1]}")
     for failure in outcome.failures:
-        click.echo(f"homebench: trial {failure.key} failed: {failure.error}", err=True)
+        _say("", f"trial {failure.key} failed: {failure.error}")
     if outcome.failures:
         sys.exit(EXIT_CRASH)
 
@@ -340,26 +376,23 @@ def _report_failures(outcome: Any, pairs: Any) -> int:
 
     for failure in outcome.failures:
         attempt = f" (attempt {failure.attempts})" if failure.attempts > 1 else ""
-        click.echo(
-            f"homebench: job {failure.kind} {failure.key} ({failure.job}) failed{attempt}: "
-            f"{failure.cause}",
-            err=True,
-        )
+        job = f"{failure.kind} {failure.key} ({failure.job})"
+        _say("", f"job {job} failed{attempt}: {failure.cause}")
     failed = pairs[pairs["error"].notna()] if "error" in pairs else pd.DataFrame()
     if not failed.empty:
         goals = ["seed", "method", "condition", "goal_i", "goal_j"]
         for (seed, method, condition, i, j), group in failed.groupby(goals, dropna=False):
             swept = "" if pd.isna(seed) else f", seed {seed}"
-            click.echo(
-                f"homebench: job ({method}, {condition}, goal ({i}, {j}){swept}): {len(group)} "
-                f"pair(s) failed: {group['error'].iloc[0]} (the pairs table holds every error)",
-                err=True,
+            _say(
+                "",
+                f"job ({method}, {condition}, goal ({i}, {j}){swept}): {len(group)} pair(s) "
+                f"failed: {group['error'].iloc[0]} (the pairs table holds every error)",
             )
     if not failed.empty or any(failure.kind == "home" for failure in outcome.failures):
-        click.echo(
-            "homebench: failed jobs are recorded in the run folder's failures/ and not run "
-            "again; rerun with --retry-failed to retry them (and the jobs of failed pairs)",
-            err=True,
+        _say(
+            "",
+            "failed jobs are recorded in the run folder's failures/ and not run again; rerun "
+            "with --retry-failed to retry them (and the jobs of failed pairs)",
         )
     return len(failed)
 
@@ -435,20 +468,21 @@ def run(
     A job that fails (raises, crashes, hangs past the timeout, runs out of memory) is recorded
     in the run folder and reported; a plain rerun reports it again, --retry-failed reruns it.
     """
+    check_run_space()
     from homebench.api import run_grid
     from homebench.config import config_kind
     from homebench.errors import ConfigError
 
     kind = config_kind(config_file, overrides)
     if kind != "grid":
-        grid_only = (
-            backend != "local" or shard is not None or check or retry_failed or timeout or update
-        )
+        grid_only = backend != "local" or shard is not None or check or retry_failed or update
         if grid_only:
             raise ConfigError(
-                "--backend dask, --shard, --check, --retry-failed and --timeout are for grid "
+                "--backend dask, --shard, --check, --retry-failed and --update are for grid "
                 f"runs, not {kind} runs"
             )
+        if timeout is not None:  # the config's key: the resolved config shows the value used
+            overrides = (*overrides, f"job_timeout_s={timeout!r}")
         _run_experiment(kind, config_file, overrides, jobs, force, no_progress, no_report)
         return
     done = run_grid(
@@ -466,9 +500,9 @@ def run(
     )
     config, outcome, tables, written = done.config, done.outcome, done.tables, done.files
     for warning in outcome.warnings:
-        click.echo(f"homebench: warning: {warning}", err=True)
+        _say("warning: ", warning)
     for note in outcome.notes:
-        click.echo(f"homebench: note: {note}", err=True)
+        _say("note: ", note)
     if not tables.summary.empty:
         click.echo(_format_summary(tables, config))
     failed_jobs = sum(failure.kind == "home" for failure in outcome.failures)
@@ -498,7 +532,7 @@ def run(
             raise ConfigError(f"{config_file}: --check needs a 'checks' section")
         reasons = failed_checks(tables.summary, config.checks)
         for reason in reasons:
-            click.echo(f"homebench: check failed: {reason}", err=True)
+            _say("check failed: ", reason)
         if reasons:
             sys.exit(EXIT_CHECK)
         click.echo(f"all {len(config.checks)} method check(s) passed")
@@ -531,7 +565,7 @@ def report(
 
     outcome = write_report(run_dir, formats, out, max_goals or None, progress=not no_progress)
     for warning in outcome.warnings:
-        click.echo(f"homebench: warning: missing job result {warning}", err=True)
+        _say("warning: ", f"missing job result {warning}")
     for path in outcome.files:
         click.echo(str(path))
 
@@ -570,13 +604,13 @@ def compare(
     comparison = compare_runs(run_dirs, labels)
     click.echo(comparison.differences_text() + "\n")
     for warning in comparison.warnings:
-        click.echo(f"homebench: warning: {warning}", err=True)
+        _say("warning: ", warning)
     click.echo(to_markdown(comparison.view()))
     if out is not None:
         click.echo(str(write_view_file(comparison.view(), out)))
     reasons = [reason for t in thresholds for reason in t.violations(comparison.table)]
     for reason in reasons:
-        click.echo(f"homebench: check failed: {reason}", err=True)
+        _say("check failed: ", reason)
     if reasons:
         sys.exit(EXIT_CHECK)
     if thresholds:
@@ -616,6 +650,8 @@ def leaderboard(
     if out is not None:
         renderer_for(out)
     board = make_leaderboard(run_dirs, labels, metric)
+    for warning in board.warnings:
+        _say("warning: ", warning)
     click.echo(to_markdown(board.view))
     if out is not None:
         click.echo(str(write_view_file(board.view, out)))
@@ -667,7 +703,10 @@ def findings(
     from homebench.report.tables import to_markdown, write_views
 
     roles = SiftRoles(p, pn, w, original, arboreal, day)
-    view = findings_view(findings_of_runs(run_dirs, roles, alpha), alpha)
+    found = findings_of_runs(run_dirs, roles, alpha)
+    for warning in found.warnings:
+        _say("warning: ", warning)
+    view = findings_view(found.table, alpha)
     click.echo(to_markdown(view))
     if out is not None:
         for path in write_views([view], out):

@@ -28,7 +28,7 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
@@ -56,6 +56,10 @@ ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
 MAX_SWEPT_SEED = 2**63 - 1
 #: A swept world: (style, seed), each None when not swept.
 SweptWorld = tuple[str | None, int | None]
+#: A job (or trial) running longer than this many seconds fails; None: never. Every kind of
+#: config takes it as ``job_timeout_s`` (``homebench run --timeout`` overrides it).
+JobTimeout = Annotated[float, Field(gt=0)] | None
+DEFAULT_JOB_TIMEOUT_S = 3600.0
 
 
 class _Strict(BaseModel):
@@ -285,7 +289,7 @@ class RunConfig(_Strict):
     output: Path
     seed: int = Field(0, ge=0)
     jobs: int = 1
-    job_timeout_s: float | None = Field(3600.0, gt=0)  # a job running longer fails; None: never
+    job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S
     worker_memory_mb: int | None = Field(None, ge=1024)  # None: physical memory / workers
     databases: dict[str, DatabaseRef]
     conditions: list[str] | Literal["all"] = Field(min_length=1)
@@ -406,6 +410,14 @@ class RunConfig(_Strict):
         """The (style, seed) of every swept world, styles outermost; None where the config
         sweeps nothing (every generated database as configured)."""
         return [(style, seed) for style in self.styles or [None] for seed in self.seeds or [None]]
+
+
+class ResolvedRunConfig(RunConfig):
+    """A grid run's ``config.resolved.json``: its config as run, whose ``worker_memory_mb`` is
+    the limit the workers had, which may lie below what a config may ask for (a Dask worker's
+    share of its memory, an inherited ``ulimit -v``)."""
+
+    worker_memory_mb: int | None = Field(None, ge=1)
 
 
 #: The kinds of experiment a config declares with ``kind:`` (grid without one).

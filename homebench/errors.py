@@ -1,7 +1,8 @@
 """The one exception root of homebench and its families.
 
-The CLI turns every :class:`HomebenchError` into one line (``str(error)``) and exit code 2;
-anything else is a crash (exit 1). Each error names the file or key it is about.
+The CLI turns every :class:`HomebenchError` into one line (``str(error)``) and exit code 2
+(:class:`Interrupted`: 130, as a shell reports a command stopped by Ctrl-C); anything else is
+a crash (exit 1). Each error names the file or key it is about.
 """
 
 from __future__ import annotations
@@ -11,6 +12,11 @@ from pathlib import Path
 
 class HomebenchError(Exception):
     """Root of every error homebench raises on purpose (bad input, bad data, bad config)."""
+
+
+class Interrupted(HomebenchError):
+    """The user stopped a run (Ctrl-C): what finished is saved, and a rerun resumes; the
+    message says how much that is."""
 
 
 class ConfigError(HomebenchError):

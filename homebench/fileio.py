@@ -59,12 +59,30 @@ _FILE_KINDS = {
 }
 
 
+def _file_kind(mode: int) -> str:
+    """What a file of ``mode`` (``st_mode``) that is no regular file is: "a folder", ..."""
+    return next((k for test, k in _FILE_KINDS.items() if test(mode)), "a special file")
+
+
 class NotRegularFileError(OSError):
     """A path that names a folder, FIFO, device or socket where a regular file is needed."""
 
     def __init__(self, path: Path, mode: int):
-        kind = next((k for test, k in _FILE_KINDS.items() if test(mode)), "a special file")
-        super().__init__(errno.EINVAL, f"not a regular file: {kind}", str(path))
+        super().__init__(errno.EINVAL, f"not a regular file: {_file_kind(mode)}", str(path))
+
+
+def file_problem(path: Path, what: str) -> str:
+    """Why ``path``, which is there, holds no ``what`` ("image") to read: "the image is a
+    folder, not a file" (a FIFO, a device, ...), "cannot open the image (Too many levels of
+    symbolic links)"; "" when it is a regular file, or when nothing is there (no file, or a
+    symbolic link to none: missing)."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return ""
+    except OSError as error:
+        return f"cannot open the {what} ({error.strerror or error})"
+    return "" if stat.S_ISREG(mode) else f"the {what} is {_file_kind(mode)}, not a file"
 
 
 def open_regular(path: Path) -> BinaryIO:

@@ -146,3 +146,27 @@ def test_a_failing_batch_is_made_again_pair_by_pair(method, monkeypatch):
     else:
         assert estimates == [1.5, 3.5, 5.5]
     assert all(ms >= 0.0 for a, ms in answers if not isinstance(a, str))
+
+
+@dataclass(frozen=True)
+class Strings:
+    """A method whose batch call answers strings, one per pair; its ``home`` too with
+    ``home_too``."""
+
+    home_too: bool = False
+
+    def home(self, current, goal):
+        return "north" if self.home_too else HomingEstimate(angle=current - goal)
+
+    def home_many(self, currents, goal):
+        return ["north"] * len(currents)
+
+
+def test_answers_that_are_no_estimates_are_refused_naming_their_type(monkeypatch):
+    """They were taken as the pairs' errors ("north")."""
+    monkeypatch.setattr(pair_calls, "_CALLED", {("k", "home")})
+    pairs = [PairInput(1.0, {}), PairInput(2.0, {})]
+    answers = home_pairs("k", Strings(), 0.5, pairs)
+    assert [a.angle for a, _ in answers] == [0.5, 1.5]  # asked of home, pair by pair
+    answers = home_pairs("k", Strings(home_too=True), 0.5, pairs)
+    assert [a for a, _ in answers] == ["TypeError: home answered a str, not a HomingEstimate"] * 2

@@ -4,6 +4,7 @@ line), exit 2, nothing executed; raw images unwrapped as BoB unwraps them; OpenC
 from __future__ import annotations
 
 import math
+import os
 import re
 import shutil
 from collections.abc import Callable
@@ -73,6 +74,12 @@ images:
   raw:
     catadioptric: {centre: [10, 10], radii: [2, 9], elevations_deg: [-40, 40]}
 """
+
+
+def _replace(path: Path, make: Callable[[Path], object]) -> None:
+    """Put what ``make(path)`` makes in place of the file ``path``."""
+    path.unlink()
+    make(path)
 
 
 def _rewrite(folder: Path, column: int, value: Callable[[str], str]) -> None:
@@ -191,6 +198,11 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
         lambda f: _entries(f, "1000, 0,", "1OOO, 0,"),
         ENTRIES + r":2: X \[mm\] '1OOO' is not a number",
     ),
+    "an absurd heading": (
+        "route",
+        lambda f: _entries(f, f", {route_poses()[0][2]:g}, image00001", ", 1e300, image00001"),
+        ENTRIES + r":2: Heading \[degrees\] is 1e300: a heading is at most 1,000,000 degrees",
+    ),
     "an infinite heading": (
         "route",
         lambda f: _entries(f, f", {route_poses()[0][2]:g}, image00001", ", inf, image00001"),
@@ -234,6 +246,21 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
         "route",
         lambda f: (f / "image00004.png").unlink(),
         r"route: 1 image\(s\) listed in database_entries\.csv are missing: image00004\.png",
+    ),
+    "an image that is a folder": (
+        "route",
+        lambda f: _replace(f / "image00004.png", Path.mkdir),
+        r"route/image00004\.png: the image is a folder, not a file$",
+    ),
+    "an image that is a FIFO": (
+        "route",
+        lambda f: _replace(f / "image00004.png", os.mkfifo),
+        r"route/image00004\.png: the image is a FIFO, not a file$",
+    ),
+    "an image that is a symbolic link loop": (
+        "route",
+        lambda f: _replace(f / "image00004.png", lambda p: p.symlink_to(p.name)),
+        r"route/image00004\.png: cannot open the image \(Too many levels of symbolic links\)$",
     ),
     "an image of the wrong size": (
         "route",

@@ -22,6 +22,8 @@ import homebench.config
 from homebench.cli import main
 from homebench.config import load_config
 from homebench.data import generate as generate_module
+from homebench.data import progress as progress_module
+from homebench.data.progress import progress_bars
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
 from homebench.report.contact_sheet import mark_panorama, mark_raw
@@ -113,7 +115,7 @@ def _generate_with_stderr(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, stream: io.StringIO, bars: bool
 ) -> str:
     monkeypatch.setattr(sys, "stderr", stream)
-    with generate_module.progress_bars(bars):
+    with progress_bars(bars):
         generate_module.generate(small_spec(), tmp_path / "set", renderer=FakeRenderer())
     return stream.getvalue()
 
@@ -132,6 +134,26 @@ def test_no_generation_bar_when_hidden_or_not_a_terminal(
     assert _generate_with_stderr(tmp_path / "b", monkeypatch, io.StringIO(), bars=True) == ""
 
 
+def test_verifying_a_large_database_shows_bars_over_its_images(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A million-row Brains on Board route took minutes to read, check and decode, saying
+    nothing. (Here ten rows, and the bars shown at once instead of after 2 s.)"""
+    from bob_folders import write_route
+
+    from homebench.data.bob import open_bob
+    from homebench.data.verify import verify_posed
+
+    folder = write_route(tmp_path / "route")
+    monkeypatch.setattr(progress_module, "ITEM_BAR_DELAY_S", 0.0)
+    monkeypatch.setattr(sys, "stderr", _Terminal())
+    db = open_bob(folder)
+    verify_posed(db)
+    shown = sys.stderr.getvalue()
+    assert "read database_entries.csv: 10row" in shown, shown
+    assert f"check {db.name}" in shown and f"decode {db.name}" in shown and "10/10" in shown
+
+
 @pytest.mark.parametrize(("flags", "shown"), [((), True), (("--no-progress",), False)])
 def test_run_passes_no_progress_to_the_generation_it_triggers(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, flags: tuple[str, ...], shown: bool
@@ -139,7 +161,7 @@ def test_run_passes_no_progress_to_the_generation_it_triggers(
     seen = []
 
     def fake_run_plan(*args: object, **kwargs: object) -> None:
-        seen.append(generate_module._BARS.get())
+        seen.append(progress_module._BARS.get())
         raise DataError("stopped before any work")
 
     monkeypatch.setattr("homebench.api.run_plan", fake_run_plan)

@@ -11,6 +11,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -246,3 +247,110 @@ def test_a_full_disk_stops_the_run_and_a_plain_rerun_recomputes(
     assert result.exit_code == 0, result.output
     computed, reused = re.search(r"(\d+) job\(s\) computed, (\d+) reused", result.stdout).groups()
     assert int(computed) >= 1 and int(computed) + int(reused) == 2
+
+
+#: A method whose answers are no estimates: ``home`` an infinite angle (``answer: inf``), or
+#: ``home_many`` strings, one per pair (``answer: strings``); otherwise a fixed direction.
+ODD_ANSWERS = '''
+"""A homing method that answers what no method may (homebench's tests)."""
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from homebench.methods.base import HomingEstimate
+
+
+@dataclass(frozen=True)
+class Faulty:
+    """Test method: odd answers."""
+
+    name: ClassVar[str] = "{name}"
+    image_kind: ClassVar[str] = "unfolded"
+    answer: str = ""
+
+    def describe(self, view):
+        return float(np.mean(view.image))
+
+    def home(self, current, goal):
+        return HomingEstimate(angle=math.inf if self.answer == "inf" else 0.1)
+
+    def home_many(self, currents, goal):
+        if self.answer == "strings":
+            return ["north"] * len(currents)
+        return [self.home(current, goal) for current in currents]
+'''
+
+
+def _odd_run(tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch, answer: str):
+    """A run of the odd-answers method (``answer``) on two goals; the result and its pairs."""
+    plugin = install_plugin(tmp_path / "plugin", monkeypatch, ODD_ANSWERS)
+    config = _config(tmp_path, arena_manifest, plugin, GOALS[:2])
+    config["methods"] = [{"method": plugin.method, "params": {"answer": answer}}]
+    result = _run(tmp_path, config)
+    return result, pd.read_csv(tmp_path / "run" / "tables" / "pairs.csv")
+
+
+def test_an_infinite_angle_fails_its_pair_without_a_numpy_warning(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    result, pairs = _odd_run(tmp_path, arena_manifest, monkeypatch, "inf")
+    assert result.returncode == 1, result.stderr
+    assert "Warning" not in result.stderr, result.stderr
+    message = "ValueError: home answered angle inf, not a finite number of radians"
+    assert (pairs["error"] == message).all(), pairs["error"].unique()
+
+
+def test_a_batch_of_strings_is_no_batch_of_estimates(
+    tmp_path: Path, arena_manifest: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """It was taken as the pairs' errors ("failed: north"); now the pairs are asked of
+    ``home`` one by one."""
+    result, pairs = _odd_run(tmp_path, arena_manifest, monkeypatch, "strings")
+    assert result.returncode == 0, result.stderr
+    assert pairs["error"].isna().all() and (pairs["estimate_rad"] == 0.1).all()
+
+
+def _ignore_interrupts() -> None:
+    """As a shell starts a background job (``homebench run ... &`` in a script)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@pytest.mark.parametrize("inherited", ["default", "ignored"])
+def test_ctrl_c_stops_a_run_at_once_and_a_rerun_resumes(
+    tmp_path: Path, arena_manifest: Path, plugin: Plugin, inherited: str
+) -> None:
+    """kill -INT did not stop a run within 10 s (a run started with SIGINT ignored ran to its
+    end). Now: within 2 s, one line saying how many jobs have results, exit 130; the rerun
+    computes only the others."""
+    config = _config(tmp_path, arena_manifest, plugin, hang_goal=_mean(arena_manifest, 3, 3))
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config))
+    command = [sys.executable, "-m", "homebench", "run", str(path), "--no-progress", "--no-report"]
+    setup = _ignore_interrupts if inherited == "ignored" else None
+    run = subprocess.Popen(
+        [*command, "--jobs", "1"], stderr=subprocess.PIPE, text=True, preexec_fn=setup
+    )
+    jobs = tmp_path / "run" / "jobs"
+    deadline = time.monotonic() + 120
+    while len(list(jobs.glob("*.json"))) < 2 and time.monotonic() < deadline:
+        time.sleep(0.1)
+    run.send_signal(signal.SIGINT)
+    start = time.monotonic()
+    _, stderr = run.communicate(timeout=30)
+    assert time.monotonic() - start < 2, "Ctrl-C must stop the run at once"
+    assert run.returncode == 130, stderr
+    (line,) = stderr.splitlines()
+    total = 2 * len(GOALS)
+    said = re.fullmatch(
+        rf"homebench: interrupted: (\d+) of {total} job\(s\) have results in .*; rerun the "
+        "same command to resume",
+        line,
+    )
+    assert said, line
+    done = len(list(jobs.glob("*.json")))  # and one the worker wrote as it was stopped
+    assert int(said[1]) <= done <= int(said[1]) + 1, line
+    again = _run(tmp_path, config)  # the hanging job times out
+    assert f"{total - done - 1} job(s) computed, {done} reused, 1 failed" in again.stdout

@@ -227,3 +227,17 @@ def test_the_findings_view_says_how_each_ae_finding_counts_a_missing_estimate() 
     assert MISSING_NOTE in view.notes
     routes = findings_view(findings_table(route_findings(_routes(0.0))))
     assert "pairs without estimate" not in routes.frame.columns and routes.notes == ()
+
+
+def test_missing_jobs_are_reported(tmp_path) -> None:
+    from click.testing import CliRunner
+
+    from homebench.cli import main
+
+    run = _paper_run(tmp_path / "bielefeld")
+    victim = sorted((run / "jobs").glob("*.json"))[0]
+    victim.unlink()
+    result = CliRunner().invoke(main, ["findings", str(run)])
+    assert result.exit_code == 0, result.output
+    (line,) = result.stderr.splitlines()
+    assert line.startswith(f"homebench: warning: bielefeld: missing jobs/{victim.name} ("), line

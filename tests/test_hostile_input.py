@@ -164,6 +164,15 @@ def _no_jobs_ran(run_dir: Path) -> bool:
     return not any((run_dir / folder).exists() for folder in ("jobs", "features", "tables"))
 
 
+@pytest.mark.parametrize("timeout", ["1e12", "inf"])
+def test_a_timeout_beyond_what_the_system_waits_is_no_crash(
+    tmp_path: Path, database: Path, timeout: str
+) -> None:
+    """It crashed: "OverflowError: timestamp too large to convert to C _PyTime_t"."""
+    result = _run(tmp_path, database, "--timeout", timeout, methods=[{"method": "warping"}])
+    assert result.exit_code == 0, result.output
+
+
 @pytest.mark.parametrize("output", ["run", "run/deeper"])
 def test_a_run_folder_that_is_a_file(tmp_path: Path, database: Path, output: str) -> None:
     """Said as it is, not as the lock file it could not create inside."""
@@ -252,6 +261,37 @@ def test_an_image_that_is_a_symlink_loop_is_named(
     assert _one_error_line(err) == (
         f"homebench: error: {victim}: cannot open the image (Too many levels of symbolic links)"
     )
+
+
+@pytest.mark.parametrize(
+    ("kind", "make"), [("a folder", Path.mkdir), ("a FIFO", os.mkfifo)], ids=["folder", "fifo"]
+)
+@pytest.mark.parametrize("command", ["verify", "run"])
+def test_an_image_that_is_no_file_is_called_what_it_is(
+    tmp_path: Path, database: Path, command: str, kind: str, make: Callable[[Path], None]
+) -> None:
+    """It was "no image for grid position (2,3)"."""
+    victim = database.parent / "pano" / "p2-3.png"
+    victim.unlink()
+    make(victim)
+    if command == "verify":
+        code, _, err = _invoke("data", "verify", str(database))
+    else:
+        result = _run(tmp_path, database)
+        code, err = result.exit_code, result.stderr
+    assert code == 2
+    assert _one_error_line(err) == f"homebench: error: {victim}: the image is {kind}, not a file"
+
+
+@pytest.mark.parametrize("command", [["run"], ["report"], ["data", "verify"]])
+def test_control_characters_of_a_file_name_are_escaped(tmp_path: Path, command: list[str]) -> None:
+    """They were echoed raw: a name could clear the screen, ring the bell, start a line."""
+    name = tmp_path / "x\x1b[2J\x07\x9b\u2028y.yaml"
+    code, _, err = _invoke(*command, str(name))
+    assert code == 2
+    line = _one_error_line(err)
+    assert "x\\x1b[2J\\x07\\x9b\\u2028y.yaml" in line, line
+    assert line.isprintable(), line
 
 
 def test_an_unreachable_dask_scheduler_is_one_line(tmp_path: Path, database: Path) -> None:

@@ -41,7 +41,8 @@ def test_findings_that_hold_in_every_style(tmp_path: Path) -> None:
     data.update(output=str(tmp_path / "run"), seeds=[0, 1])
     result = run_config(tmp_path, data)
     assert result.exit_code == 0, result.output
-    table = findings_of_runs([tmp_path / "run"], alpha=ALPHA).set_index(["place", "finding"])
+    found = findings_of_runs([tmp_path / "run"], alpha=ALPHA)
+    table = found.table.set_index(["place", "finding"])
     for style in data["styles"]:
         for finding in ROBUST:
             row = table.loc[(style, finding)]

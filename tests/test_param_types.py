@@ -16,7 +16,7 @@ import yaml
 from click.testing import CliRunner, Result
 from conftest import arena_config, run_config
 from plugins import install_plugin
-from pydantic import AllowInfNan
+from pydantic import AllowInfNan, Field
 
 from homebench.cli import main
 from homebench.config import load_config
@@ -191,6 +191,7 @@ class _Plugin:
     name: ClassVar[str] = "plugin"
     steps: int = 1
     limit: Annotated[float, AllowInfNan()] = math.inf
+    seed: Annotated[int, Field(ge=0)] = 0
     window: tuple[int, int] = (1, 2)
     mode: UndefinedAlias = "fast"  # noqa: F821  (an annotation that does not resolve)
     anything: Any = None
@@ -205,6 +206,8 @@ class _Plugin:
         ("limit", math.inf, ""),
         ("limit", math.nan, ""),
         ("limit", "far", "expected a number, got 'far'"),
+        ("seed", -1, "expected an integer >= 0, got -1"),
+        ("seed", 0, ""),
         ("window", [3, 4], ""),
         ("window", (3, 4), ""),
         ("window", [3], "expected a list of 2 integers, got [3]"),
@@ -227,7 +230,7 @@ from dataclasses import dataclass
 from typing import Annotated, ClassVar, Literal
 
 import numpy as np
-from pydantic import AllowInfNan
+from pydantic import AllowInfNan, Field
 
 from homebench.methods.base import HomingEstimate
 
@@ -294,6 +297,14 @@ def test_a_plugin_with_valid_parameters_runs_and_is_listed(
     assert "    mode = 'fast' (one of fast | slow)" in listing.stdout
     assert "    window = (0.0, 1.0) (tuple[float, float])" in listing.stdout
     assert "    hidden = None (Unresolved)" in listing.stdout
+
+
+def test_infomax_refuses_a_negative_seed(tmp_path: Path) -> None:
+    """It passed the config check, then every trial failed without naming the key."""
+    path = _route(tmp_path, {"method": "infomax", "params": {"seed": -1}})
+    _refused(_run(path), path, "methods.1.params.seed", "expected an integer >= 0, got -1")
+    listing = CliRunner().invoke(main, ["methods"])
+    assert "    seed = 0 (int >= 0)" in listing.stdout
 
 
 def _listed(name: str) -> list[str]:

@@ -207,3 +207,14 @@ def test_the_title_names_the_runs_ahc_definition_and_two_definitions_do_not_rank
 def test_the_cli_offers_every_board_metric() -> None:
     (option,) = [p for p in main.commands["leaderboard"].params if p.name == "metric"]
     assert sorted(option.type.choices) == sorted(BOARD_METRICS)
+
+
+def test_missing_jobs_are_reported(runs) -> None:
+    """A deleted job file: the method was ranked on the goals left without a word."""
+    first, second = runs
+    victim = sorted((first / "jobs").glob("*.json"))[0]
+    victim.unlink()
+    result = CliRunner().invoke(main, ["leaderboard", str(first), str(second)])
+    assert result.exit_code == 0, result.output
+    (line,) = result.stderr.splitlines()
+    assert line.startswith(f"homebench: warning: first: missing jobs/{victim.name} ("), line

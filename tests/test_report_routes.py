@@ -255,7 +255,8 @@ def test_missing_corrupt_and_stale_trials_get_a_warning_page(route_run: Path) ->
         f"0123456789abcdef != {key})"
     )
     assert outcome.warnings[3] == (
-        "routes/line-3m-r2.json (trial line-3m-r2: corrupt, no 'summary.odometry_error_m')"
+        "routes/line-3m-r2.json (trial line-3m-r2: corrupt, summary.odometry_error_m: Field "
+        "required)"
     )
     assert len(outcome.warnings) == 4
     pdf = route_run / "report" / "report.pdf"
@@ -358,7 +359,7 @@ def test_a_run_of_several_methods_compares_them_on_the_same_trials(tmp_path: Pat
     # Seed 000's findings are klt-sector's: the other method's trials stay out of them.
     from homebench.report.findings_report import _route_table
 
-    assert list(_route_table([run])["method"]) == ["klt-sector"] * 6
+    assert list(_route_table([run])[0]["method"]) == ["klt-sector"] * 6
     figures = sorted(p.name for p in (run / "report" / "figures").glob("*.png"))
     assert figures == [
         "final_error.png",

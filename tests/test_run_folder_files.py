@@ -130,6 +130,50 @@ def test_a_folder_file_of_the_wrong_shape_is_one_line_naming_it(
         assert line.startswith(f"homebench: error: {run_dir / name}: "), line
 
 
+#: Values of the wrong type in the resolved config and the environment, by file and key.
+WRONG_TYPES = {
+    ("config.resolved.json", "methods"): 5,
+    ("config.resolved.json", "databases"): [1, 2],
+    ("config.resolved.json", "goals"): {"x": 1},
+    ("config.resolved.json", "name"): 5,
+    ("config.resolved.json", "kind"): [1],
+    ("config.resolved.json", "conditions"): "some",
+    ("config.resolved.json", "currents"): 5,
+    ("config.resolved.json", "rotate_current"): [],
+    ("config.resolved.json", "metrics"): {"ahc": 3},
+    ("environment.json", "databases"): 5,
+    ("environment.json", "versions"): {"numpy": 2},
+    ("environment.json", "distributions"): 5,
+    ("environment.json", "git"): 5,
+    ("environment.json", "command"): "homebench run",
+}
+#: The commands that read a run folder.
+READERS = [
+    ["report", "--format", "md", "--no-progress"],
+    ["leaderboard"],
+    ["findings"],
+    ["compare", "--label", "a", "--label", "b"],
+]
+
+
+@pytest.mark.parametrize(
+    ("name", "key"), list(WRONG_TYPES), ids=[f"{n}:{k}" for n, k in WRONG_TYPES]
+)
+def test_a_record_of_the_wrong_types_is_one_line_naming_its_file_and_key(
+    run_dir: Path, name: str, key: str
+) -> None:
+    """Each of these crashed report or leaderboard, or passed without a word."""
+    path = run_dir / name
+    record = json.loads(path.read_text())
+    path.write_text(json.dumps({**record, key: WRONG_TYPES[name, key]}))
+    for command, *options in READERS:
+        folders = [str(run_dir)] * (2 if command == "compare" else 1)
+        result = _invoke(command, *folders, *options)
+        assert result.exit_code == 2, (command, result.output)
+        (line,) = result.stderr.splitlines()
+        assert line.startswith(f"homebench: error: {path}: {key}"), (command, line)
+
+
 def test_a_failure_record_of_the_wrong_shape_is_no_record(run_dir: Path, tmp_path: Path) -> None:
     victim = sorted((run_dir / "jobs").glob("*.json"))[0]
     key = victim.stem

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from homebench.data.grid_order import GridOrder, label_of, label_shape
 from homebench.data.manifest import Manifest
 from homebench.errors import DataError, MissingImagesError
-from homebench.fileio import check_image, read_grey
+from homebench.fileio import check_image, file_problem, read_grey
 from homebench.geometry import (
     CatadioptricGeometry,
     Grid,
@@ -184,17 +184,13 @@ class GridDatabase:
 
     def _check_unopenable(self, kind: str, positions: list[tuple[int, int]]) -> None:
         """DataError naming the first file of an image at ``positions`` that is there but
-        cannot be opened (a symbolic link loop): such an image is not missing."""
+        is no file that can be opened (a symbolic link loop, a folder, a FIFO: see
+        :func:`~homebench.fileio.file_problem`): such an image is not missing."""
         for i, j in positions:
             for path in self.candidate_paths(i, j, kind):
-                try:
-                    os.stat(path)
-                except FileNotFoundError:  # no file, or a link to none: missing
-                    continue
-                except OSError as error:
-                    raise DataError(
-                        f"{path}: cannot open the image ({error.strerror or error})"
-                    ) from None
+                problem = file_problem(path, "image")
+                if problem:
+                    raise DataError(f"{path}: {problem}")
 
     def check_images(self, kinds: tuple[str, ...]) -> None:
         """Check every image of ``kinds`` without decoding it: present, in a known format, of the

@@ -12,11 +12,9 @@ import hashlib
 import json
 import math
 import os
-import sys
 import warnings
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import ExitStack, contextmanager
-from contextvars import ContextVar
+from collections.abc import Callable, Sequence
+from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -24,7 +22,6 @@ from typing import Any, Protocol
 import cv2
 import numpy as np
 from numpy.typing import NDArray
-from tqdm import tqdm
 
 from homebench.bounds import workers_problem
 from homebench.data.fingerprint import fingerprint
@@ -40,6 +37,7 @@ from homebench.data.manifest import (
     UnfoldedImages,
     load_manifest,
 )
+from homebench.data.progress import bar
 from homebench.data.synth.spec import RENDERER_VERSION, WorldSpec
 from homebench.errors import ConfigError, DataError
 from homebench.fileio import atomic_directory, encode_png, write_bytes_atomic, write_text_atomic
@@ -52,19 +50,6 @@ IMAGE_PATTERN = "{x}_{y}.png"
 BATCHES_PER_JOB = 4
 
 Progress = Callable[[int, int], None]
-#: Whether generation shows a bar over positions (on stderr, when it is a terminal).
-_BARS: ContextVar[bool] = ContextVar("homebench_generation_bars", default=True)
-
-
-@contextmanager
-def progress_bars(enabled: bool) -> Iterator[None]:
-    """Within the block, every generation shows its bar over positions (``enabled``, and only
-    when stderr is a terminal) or none (``homebench run --no-progress``)."""
-    token = _BARS.set(enabled)
-    try:
-        yield
-    finally:
-        _BARS.reset(token)
 
 
 class Renderer(Protocol):
@@ -200,7 +185,7 @@ def generate(
     ``out_dir`` defaults to :func:`generated_root`. A folder that already holds this spec's
     generation is returned as it is; any other existing folder but an empty one is a DataError
     (never overwritten). ``jobs`` follows joblib (-1 = all cores); ``progress(done, total)``
-    is called as positions finish, and a bar shows them (see :func:`progress_bars`).
+    is called as positions finish, and a bar shows them (:mod:`homebench.data.progress`).
     """
     generation = Generation(spec, out_dir, name, description)
     (folder,) = generate_many([generation], jobs, renderer=renderer, progress=progress)
@@ -305,14 +290,7 @@ def _build(
     truths: list[dict[str, Any]] = [{} for _ in staged]
     total, done = sum(len(batch) for _, batch in tasks), 0
     names = ", ".join(generation.name for generation, _ in staged)
-    bar = tqdm(
-        total=total,
-        desc=f"generate {names}",
-        unit="position",
-        file=sys.stderr,
-        disable=None if _BARS.get() else True,  # None: off unless stderr is a terminal
-    )
-    with bar, warnings.catch_warnings():
+    with bar(total, f"generate {names}", "position") as shown, warnings.catch_warnings():
         # loky replaces a worker whose memory grew (a world's textures: ~250 MB) and says so
         warnings.filterwarnings("ignore", "A worker stopped while some jobs", UserWarning)
         results = Parallel(n_jobs=n_jobs, return_as="generator")(
@@ -325,7 +303,7 @@ def _build(
                 continue
             written[index] += result
             done += len(batch)
-            bar.update(len(batch))
+            shown.update(len(batch))
             if progress is not None:
                 progress(done, total)
     for (generation, folder), files, truth in zip(staged, written, truths, strict=True):

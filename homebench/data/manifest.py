@@ -83,8 +83,11 @@ def _relative_posix(value: str, what: str) -> str:
     return norm
 
 
+_CONTROL_OR_BACKSLASH = re.compile(r"[\x00-\x1f\x7f\\]")
+
+
 def _has_control_or_backslash(text: str) -> bool:
-    return "\\" in text or any(ord(c) < 32 or ord(c) == 127 for c in text)
+    return _CONTROL_OR_BACKSLASH.search(text) is not None
 
 
 def outside_problem(name: str) -> str | None:

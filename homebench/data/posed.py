@@ -33,8 +33,9 @@ from homebench.data.manifest import (
     RawImages,
     UnfoldedImages,
 )
+from homebench.data.progress import over
 from homebench.errors import DataError
-from homebench.fileio import check_image, read_grey
+from homebench.fileio import check_image, file_problem, read_grey
 from homebench.geometry import (
     CatadioptricGeometry,
     Grid,
@@ -115,14 +116,19 @@ class PosedDatabase:
     def check_images(self) -> None:
         """Check every image without decoding it: present, in a known format, of ``size``, not
         visibly cut short (see :func:`homebench.fileio.check_image`); errors name the files."""
-        missing = [name for k, name in enumerate(self.files) if not self.path(k).is_file()]
+        paths = [self.path(k) for k in range(len(self))]
+        missing = [name for name, path in zip(self.files, paths, strict=True) if not path.is_file()]
+        for name in missing:  # there, but no file (a folder, a FIFO, a symbolic link loop)
+            problem = file_problem(self.root / name, "image")
+            if problem:
+                raise DataError(f"{self.root / name}: {problem}")
         if missing:
             raise DataError(
                 f"{self.root}: {len(missing)} image(s) listed in {self.listing} are missing: "
                 + listed(missing)
             )
-        for k in range(len(self)):
-            check_image(self.path(k), self.size)
+        for path in over(paths, len(paths), f"check {self.name}"):
+            check_image(path, self.size)
 
     def layout(self) -> str:
         """What the poses are, as words: "a 10 x 17 grid 0.3 m apart", "a route of ..."."""

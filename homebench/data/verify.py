@@ -23,6 +23,7 @@ from homebench.data.fingerprint import fingerprint, matches
 from homebench.data.generate import MANIFEST_NAME, is_generated
 from homebench.data.manifest import Manifest, load_manifest
 from homebench.data.posed import PosedDatabase, listed
+from homebench.data.progress import over
 from homebench.errors import ChecksumMismatchError, DataError
 from homebench.fileio import sha256_file, write_text_atomic
 
@@ -70,7 +71,7 @@ def verify(
     checked, unchecked, warnings, mismatches, tolerated = [], [], [], [], []
     for kind, names in files.items():
         section = db.manifest.section(kind)
-        for name, path in names.items():
+        for name, path in over(names.items(), len(names), f"sha256 {db.name} {kind}"):
             expected = section.files.get(name)
             relative = path.relative_to(db.root).as_posix()
             if expected is None:
@@ -88,7 +89,7 @@ def verify(
     if mismatches:
         raise ChecksumMismatchError(mismatches)
     for kind in db.kinds:
-        for i, j in db.grid.indices():
+        for i, j in over(db.grid.indices(), db.grid.size, f"decode {db.name} {kind}"):
             db.image(i, j, kind)  # decodes and checks the size
     if db.manifest.ground_truth is not None:
         db.ground_truth()
@@ -162,8 +163,8 @@ def verify_posed(db: PosedDatabase) -> VerifyReport:
     for want of a pose are listed). The format records no sums: every image is reported
     without one."""
     db.check_images()
-    for k in range(len(db)):
-        db.image(k)  # decodes
+    for k in over(range(len(db)), len(db), f"decode {db.name}"):
+        db.image(k)
     known = {*db.files, *db.own_files, *db.skipped_files}
     extra = [relative for relative in _all_files(db.root) if relative not in known]
     warnings = [f"{db.root}: {len(extra)} files not listed in {db.listing}: {listed(extra)}"]

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import resource
 import signal
 import socket
 import subprocess
@@ -33,6 +32,7 @@ from multiprocessing.connection import Connection, wait
 from multiprocessing.reduction import send_handle
 from typing import Any, TypeVar
 
+from homebench.address_space import ARROW_POOL, inherited_mb
 from homebench.errors import HomebenchError
 
 T = TypeVar("T")
@@ -49,6 +49,9 @@ THREAD_LIMITS = (
     "VECLIB_MAXIMUM_THREADS",
     "NUMEXPR_NUM_THREADS",
 )
+#: Longest single wait for a message (s): a longer timeout (up to inf) is waited for in turns,
+#: as the operating system's wait takes no more than about 290 years.
+MAX_WAIT_S = 3600.0
 
 
 class WorkerStartError(HomebenchError):
@@ -70,16 +73,10 @@ class Crash:
     cause: str
 
 
-def inherited_memory_mb() -> int | None:
-    """The address-space limit this process inherited (``ulimit -v``: a batch system sets
-    one), MB; None when there is none. No worker may be given more."""
-    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    return None if soft == resource.RLIM_INFINITY else soft >> 20
-
-
 def within_inherited(memory_mb: int) -> int:
-    """``memory_mb``, or the inherited limit (:func:`inherited_memory_mb`) where it is lower."""
-    inherited = inherited_memory_mb()
+    """``memory_mb``, or the inherited limit where it is lower: no worker may be given more
+    (:func:`~homebench.address_space.inherited_mb`)."""
+    inherited = inherited_mb()
     return memory_mb if inherited is None else min(memory_mb, inherited)
 
 
@@ -93,7 +90,7 @@ def default_memory_mb(workers: int) -> int:
 def memory_problem(memory_mb: int | None) -> str:
     """Why workers here cannot be limited to ``memory_mb``: it is more than the limit they
     inherit; "" when they can (None, the default, always can)."""
-    inherited = inherited_memory_mb()
+    inherited = inherited_mb()
     if memory_mb is None or inherited is None or memory_mb <= inherited:
         return ""
     return (
@@ -130,7 +127,7 @@ class _Server:
         ours, theirs = socket.socketpair()
         command = [sys.executable, "-m", "homebench.evaluation.worker_server"]
         command += [str(theirs.fileno()), str(os.getpid())]
-        environment = {**os.environ, **dict.fromkeys(THREAD_LIMITS, "1")}
+        environment = {**ARROW_POOL, **os.environ, **dict.fromkeys(THREAD_LIMITS, "1")}
         self.process = subprocess.Popen(command, pass_fds=[theirs.fileno()], env=environment)
         theirs.close()
         self.control = Connection(ours.detach())
@@ -286,7 +283,9 @@ class WorkerPool:
         limit = self.limits.timeout_s
         starts = [w.started for w in self.workers if w.busy]
         timeout = None if limit is None or not starts else min(starts) + limit - time.monotonic()
-        ready = wait([w.conn for w in self.workers], None if timeout is None else max(0, timeout))
+        if timeout is not None:
+            timeout = min(max(0.0, timeout), MAX_WAIT_S)
+        ready = wait([w.conn for w in self.workers], timeout)
         now = time.monotonic()
         for w in list(self.workers):
             ended = None

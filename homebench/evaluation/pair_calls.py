@@ -11,8 +11,10 @@ Times (``home_ms`` of a pair's row) are wall times of the calls, in ms:
   :func:`timed`): it holds one-off costs. A method with a batch call homes the first pair of
   its first job in a process alone, so that one pair, not a whole job, goes without a time.
 
-A batch call that raises, or answers another number of estimates than it was given pairs, is
-made again pair by pair: only a pair that fails alone fails, with its error in its row.
+A batch call that raises, or answers another number of estimates than it was given pairs, or
+anything but estimates (:func:`~homebench.methods.base.checked_estimate`), is made again pair
+by pair: only a pair that fails alone fails, with its error in its row; so does a pair whose
+``home`` answers no estimate (a string, an infinite angle), the error naming what it answered.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
-from homebench.methods.base import HomingEstimate, batch_home
+from homebench.methods.base import HomingEstimate, batch_home, checked_estimate
 
 T = TypeVar("T")
 
@@ -86,6 +88,7 @@ def home_pairs(method_key: str, method: Any, goal: Any, pairs: Sequence[PairInpu
         )
         if len(estimates) != len(pairs):
             raise ValueError(f"home_many answered {len(estimates)} of {len(pairs)} pairs")
+        estimates = [checked_estimate(estimate, "home_many") for estimate in estimates]
     except Exception:  # pair by pair: only a failing pair fails
         return answers + [_alone(method_key, method, goal, pair) for pair in pairs]
     share = ms / len(pairs)
@@ -95,6 +98,9 @@ def home_pairs(method_key: str, method: Any, goal: Any, pairs: Sequence[PairInpu
 def _alone(method_key: str, method: Any, goal: Any, pair: PairInput) -> Answer:
     """One pair's answer by ``home``."""
     try:
-        return timed(method_key, "home", lambda: method.home(pair.features, goal, **pair.extra))
+        estimate, ms = timed(
+            method_key, "home", lambda: method.home(pair.features, goal, **pair.extra)
+        )
+        return checked_estimate(estimate), ms
     except Exception as error:  # one failed pair; the job's other pairs go on
         return describe_error(error), math.nan

@@ -14,6 +14,7 @@ finish. The run folder is locked and belongs to one config
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import shutil
 from collections.abc import Callable, Iterator, Sequence
@@ -24,7 +25,7 @@ from typing import Any
 from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
-from homebench.errors import WriteError
+from homebench.errors import Interrupted, WriteError
 from homebench.evaluation.data_checks import check_source, database_warnings, pattern_notes
 from homebench.evaluation.executors import (
     PRELOAD,
@@ -83,6 +84,19 @@ def _outcomes(
             yield job, result
 
 
+@contextlib.contextmanager
+def interruptible(finished: Callable[[], str], run_dir: Path) -> Iterator[None]:
+    """Ctrl-C within the block becomes :class:`~homebench.errors.Interrupted` saying what
+    ``finished()`` says ("3 of 10 job(s)") has results in ``run_dir``: each result is
+    written whole, so a rerun resumes from there."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        raise Interrupted(
+            f"interrupted: {finished()} have results in {run_dir}; rerun the same command to resume"
+        ) from None
+
+
 def run_parallel(
     work: Callable[[Any, Path], JobOutcome],
     jobs: Sequence[Any],
@@ -91,16 +105,27 @@ def run_parallel(
     label: str,
     show_progress: bool,
     preload: tuple[str, ...] = PRELOAD,
+    timeout_s: float | None = None,
+    reused: int = 0,
 ) -> list[JobOutcome]:
     """Run ``work(job, run_dir)`` for every job in ``n_jobs`` isolated local workers (-1: one
     per core) that import ``preload`` first, with a progress bar; the outcomes as they finish
-    (a crash as the job's error)."""
+    (a crash, or a job running longer than ``timeout_s``, as the job's error). Ctrl-C stops
+    them: Interrupted counting ``reused`` (of the caller's plan) and those that finished."""
     if not jobs:
         return []
-    execution = Execution(jobs=n_jobs)
-    with open_executor(execution, preload) as executor:
+    execution = Execution(jobs=n_jobs, timeout_s=timeout_s)
+    outcomes: list[JobOutcome] = []
+
+    def finished() -> str:
+        done = reused + sum(outcome.error is None for outcome in outcomes)
+        return f"{done} of {reused + len(jobs)} job(s)"
+
+    with interruptible(finished, run_dir), open_executor(execution, preload) as executor:
         results = executor.map(work, jobs, run_dir)
-        return [outcome for _, outcome in _outcomes(label, results, len(jobs), show_progress)]
+        for _, outcome in _outcomes(label, results, len(jobs), show_progress):
+            outcomes.append(outcome)
+    return outcomes
 
 
 def _job_label(job: HomeJob | DescribeJob) -> str:
@@ -206,18 +231,19 @@ def _run_jobs(
         if (images := tuple(t for t in job.images if (t, job.method.key) in needed))
     ]
     failures, computed = [*earlier], 0
-    described = executor.map(run_describe_job, describe, run_dir)
-    for job, outcome in _outcomes("describe", described, len(describe), show_progress):
-        if outcome.error is not None:  # reported; the pairs that miss features fail with it
-            failures.append(Failure("describe", job.key, _job_label(job), outcome.error, 1))
-    homed = executor.map(run_home_job, todo, run_dir)
-    for job, outcome in _outcomes("home", homed, len(todo), show_progress):
-        if outcome.error is None:
-            clear_failure(run_dir, job.key)
-            computed += 1
-        else:
-            label = _job_label(job)
-            failures.append(record_failure(run_dir, "home", job.key, label, outcome.error))
+    with interruptible(lambda: f"{reused + computed} of {len(mine)} job(s)", run_dir):
+        described = executor.map(run_describe_job, describe, run_dir)
+        for job, outcome in _outcomes("describe", described, len(describe), show_progress):
+            if outcome.error is not None:  # reported; the pairs that miss features fail with it
+                failures.append(Failure("describe", job.key, _job_label(job), outcome.error, 1))
+        homed = executor.map(run_home_job, todo, run_dir)
+        for job, outcome in _outcomes("home", homed, len(todo), show_progress):
+            if outcome.error is None:
+                clear_failure(run_dir, job.key)
+                computed += 1
+            else:
+                label = _job_label(job)
+                failures.append(record_failure(run_dir, "home", job.key, label, outcome.error))
     pending = sum(
         not (job.result_path(run_dir).exists() or failure_path(run_dir, job.key).exists())
         for job in plan.home

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from homebench.experiments.scene import turned
 from homebench.geometry import PanoramaGeometry, Pose
-from homebench.methods.base import HomingEstimate
+from homebench.methods.base import HomingEstimate, checked_estimate
 from homebench.methods.visual_compass import (
     CompassMode,
     compass_turn,
@@ -46,17 +46,20 @@ class MethodHomer:
     sees: bool = True
 
     def estimate(self, pose: Pose, image: NDArray[np.uint8]) -> HomingEstimate:
-        """The method's estimate from ``image`` seen at true ``pose``, in the robot's frame."""
+        """The method's estimate from ``image`` seen at true ``pose``, in the robot's frame;
+        TypeError or ValueError when the method answers no estimate (a string, an infinite
+        angle: :func:`~homebench.methods.base.checked_estimate`)."""
         view = View(image, self.geometry)
         if self.compass == "none":
-            return self.method.home(self.method.describe(view), self.goal)
+            return checked_estimate(self.method.home(self.method.describe(view), self.goal))
         if self.compass == "truth":
             turn = whole_columns(pose.heading - self.goal_heading, self.geometry.width)
         else:
             assert self.goal_view is not None
             turn = compass_turn(view, self.goal_view)
         aligned = View(turned(view, -turn), self.geometry)
-        return in_current_frame(self.method.home(self.method.describe(aligned), self.goal), turn)
+        estimate = self.method.home(self.method.describe(aligned), self.goal)
+        return in_current_frame(checked_estimate(estimate), turn)
 
     def direction(self, pose: Pose, image: NDArray[np.uint8] | None) -> float | None:
         """Home direction in the robot frame (rad), or None."""

@@ -1,25 +1,43 @@
 """The trial files of the robot experiments (route, closed loop): what a run did and reading one.
 
 A trial is one JSON file written atomically, holding the ``key`` of everything that decided it;
-a file whose key differs is of another configuration (or code) and is not reused or reported.
+a file whose key differs is of another configuration (or code) and is not reused or reported,
+nor is one that does not fit its experiment's schema (a :class:`TrialRecord`: the types of
+what the tables and the report read, and a summary that names the trial it belongs to). A run
+computes such a trial again; a report lists it as missing.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, ClassVar
 
 import pandas as pd
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from homebench.evaluation.jobs import JobOutcome
 from homebench.fileio import parse_json, read_record_text
+
+#: Poses as a trial file holds them: (n, 3) rows (x [m], y [m], heading [rad]).
+Poses = list[Annotated[list[float], Field(min_length=3, max_length=3)]]
+
+
+class TrialRecord(BaseModel):
+    """A trial file: its ``key`` (fields its experiment's schema adds are typed there; others
+    are left as they are)."""
+
+    model_config = ConfigDict(extra="allow", strict=True)
+
+    key: str
 
 
 @dataclass(frozen=True)
 class TrialRunOutcome:
     """What a robot experiment's run did, for the CLI: the summary ``table`` (written to
-    ``table_path``), trials ``computed`` now and ``reused``, and the ``failures``."""
+    ``table_path``), trials ``computed`` now and ``reused``, and the ``failures`` of the
+    trials run now."""
 
     run_dir: Path
     table: pd.DataFrame
@@ -29,9 +47,18 @@ class TrialRunOutcome:
     failures: tuple[JobOutcome, ...]
 
 
-def read_trial(path: Path, run_dir: Path, trial: str, key: str) -> dict[str, Any] | str:
-    """The record of ``trial`` at ``path`` (a JSON object with a ``summary`` object and the
-    trial's ``key``), or why there is none: "routes/x.json (trial x: missing)"."""
+def read_trial(
+    path: Path,
+    run_dir: Path,
+    trial: str,
+    key: str,
+    schema: type[TrialRecord],
+    names: Mapping[str, Any],
+) -> dict[str, Any] | str:
+    """The record of ``trial`` at ``path``: a JSON object with the trial's ``key`` that fits
+    ``schema`` and whose summary holds ``names`` (column -> value: the trial it is of); or
+    why there is none: "routes/x.json (trial x: missing)", "(trial x: corrupt, summary.steps:
+    Input should be a valid integer)"."""
     where = f"{path.relative_to(run_dir).as_posix()} (trial {trial}"
     try:
         record = parse_json(read_record_text(path))
@@ -43,6 +70,37 @@ def read_trial(path: Path, run_dir: Path, trial: str, key: str) -> dict[str, Any
         return f"{where}: corrupt, not a JSON object)"
     if record.get("key") != key:
         return f"{where}: of another configuration, key {record.get('key')} != {key})"
-    if not isinstance(record.get("summary"), dict):
-        return f"{where}: corrupt, no summary)"
+    try:
+        schema.model_validate(record)
+    except ValidationError as error:
+        first = error.errors()[0]
+        field = ".".join(str(part) for part in first["loc"])
+        return f"{where}: corrupt, {field}: {first['msg']})"
+    other = next((name for name, value in names.items() if record["summary"][name] != value), None)
+    if other is not None:
+        return f"{where}: corrupt, summary.{other} {record['summary'][other]!r} is another trial's)"
     return record
+
+
+class TrialFile:
+    """What a robot experiment's job reads of its trial file; the job class gives the
+    ``schema`` of its files, ``key``, ``trial`` (with its ``name``), ``result_path(run_dir)``
+    and ``names()``, the summary columns that say which trial a file is of."""
+
+    schema: ClassVar[type[TrialRecord]]
+    key: str
+    trial: Any
+
+    def result_path(self, run_dir: Path) -> Path: ...
+
+    def names(self) -> dict[str, Any]: ...
+
+    def read(self, run_dir: Path) -> dict[str, Any] | str:
+        """The trial's record in ``run_dir``, or why there is none (:func:`read_trial`)."""
+        path = self.result_path(run_dir)
+        return read_trial(path, run_dir, self.trial.name, self.key, self.schema, self.names())
+
+    def record(self, run_dir: Path) -> dict[str, Any] | None:
+        """The trial's record in ``run_dir``; None where there is none: a run computes it."""
+        record = self.read(run_dir)
+        return None if isinstance(record, str) else record

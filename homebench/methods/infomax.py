@@ -47,9 +47,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import numpy as np
+from pydantic import Field
 
 from homebench.errors import ConfigError
 from homebench.methods.base import ImageKind
@@ -138,7 +139,7 @@ class Infomax(RouteMemory):
         "are, 1.5 standardized (|h|**2 about N**2 at H = N), so standardized views larger than "
         "90 x 17 need a smaller eta",
     )
-    seed: int = param(
+    seed: Annotated[int, Field(ge=0)] = param(
         0,
         "Seed of the initial weights (see init).",
     )

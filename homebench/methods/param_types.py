@@ -3,7 +3,9 @@ type hint, by pydantic in strict mode, before the method is made.
 
 Strict means: an integer where an integer is expected (not ``2.5``, ``"3"`` or ``true``), a
 number where a float is expected (an integer is one), ``true`` or ``false`` for a bool, one of
-the choices of a ``Literal``; a tuple field also takes a list (YAML has no tuples). Floats must
+the choices of a ``Literal``; a tuple field also takes a list (YAML has no tuples). A field
+bounds its values as pydantic's fields do: ``seed: Annotated[int, Field(ge=0)]`` (or
+``annotated_types``' ``Ge(0)``). Floats must
 be finite: ``nan`` and ``inf`` are refused unless the field opts out with pydantic's marker,
 ``Annotated[float, AllowInfNan()]`` (no built-in method does: where "no limit" or "off" is
 meant, they take ``None``). A field without a hint, or with one that does not resolve or that
@@ -39,6 +41,8 @@ _NAMES = {
     str: ("a string", "strings"),
     type(None): ("null", "nulls"),
 }
+#: The bounds a field's ``Annotated`` markers may set: their attribute and its sign.
+_BOUNDS = (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<"))
 
 
 def field_hints(cls: type) -> dict[str, Any]:
@@ -136,7 +140,8 @@ def expected(hint: Any) -> str:
     origin, args = get_origin(hint), get_args(hint)
     if origin is Annotated:
         inf_nan = any(isinstance(m, AllowInfNan) and m.allow_inf_nan for m in hint.__metadata__)
-        return "a number" if inf_nan and args[0] is float else expected(args[0])
+        kind = "a number" if inf_nan and args[0] is float else expected(args[0])
+        return " ".join(filter(None, [kind, bounds_text(hint)]))
     if origin is Literal:
         return "one of " + ", ".join(map(str, args))
     if origin in _UNIONS:
@@ -146,6 +151,20 @@ def expected(hint: Any) -> str:
     if hint in (tuple, list) or origin in (tuple, list):
         return _sequence(args)
     return getattr(hint, "__name__", str(hint))
+
+
+def bounds_text(hint: Any) -> str:
+    """The bounds an ``Annotated`` hint's markers set (``annotated_types``' ``Ge(0)``, or
+    pydantic's ``Field(ge=0)``, which holds such markers), in words: ">= 0", "> 0 <= 1"; ""
+    for none."""
+    markers = get_args(hint)[1:] if get_origin(hint) is Annotated else ()
+    markers = tuple(m for marker in markers for m in (marker, *getattr(marker, "metadata", ())))
+    return " ".join(
+        f"{sign} {getattr(marker, name)}"
+        for marker in markers
+        for name, sign in _BOUNDS
+        if getattr(marker, name, None) is not None
+    )
 
 
 def _sequence(args: tuple[Any, ...]) -> str:

@@ -25,7 +25,7 @@ import typing
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal, get_args, get_origin
 
-from homebench.methods.param_types import field_hints
+from homebench.methods.param_types import bounds_text, field_hints
 
 _KEY = "homebench"
 
@@ -76,12 +76,12 @@ def same_as(owner: type, name: str, scope: str = "") -> Any:
 
 def _type_text(hint: Any) -> str:
     """Plain text of a type hint: ``one of a | b`` for Literals, ``int | None`` for unions,
-    ``tuple[float, float]`` for generic types."""
+    ``tuple[float, float]`` for generic types, ``int >= 0`` for a bounded one."""
     if isinstance(hint, str):  # an annotation that did not resolve: its text
         return hint.strip("'\"")
     origin, args = get_origin(hint), get_args(hint)
     if origin is Annotated:
-        return _type_text(args[0])
+        return " ".join(filter(None, [_type_text(args[0]), bounds_text(hint)]))
     if origin is Literal:
         return "one of " + " | ".join(str(choice) for choice in args)
     if args and origin in (typing.Union, types.UnionType):

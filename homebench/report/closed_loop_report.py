@@ -36,7 +36,6 @@ from homebench.experiments.closed_loop.tables import (
     trials_frame,
 )
 from homebench.experiments.closed_loop.views import lattice_error
-from homebench.experiments.trials import read_trial
 from homebench.geometry import FloatArray
 from homebench.report.closed_loop_figures import (
     catchment_figure,
@@ -120,8 +119,7 @@ def load_closed_loop_run(info: RunInfo) -> ClosedLoopRun:
     records, warnings = [], []
     plan = plan_trials(config)
     for trial in plan:
-        job = ClosedLoopJob(config, trial)
-        loaded = read_trial(job.result_path(info.run_dir), info.run_dir, trial.name, job.key)
+        loaded = ClosedLoopJob(config, trial).read(info.run_dir)
         (warnings if isinstance(loaded, str) else records).append(loaded)
     if not records:
         shown = "; ".join(warnings[:3]) + (" ..." if len(warnings) > 3 else "")

@@ -56,7 +56,7 @@ from homebench.errors import ConfigError
 from homebench.fileio import write_text_atomic
 from homebench.hashing import derived_seed
 from homebench.report.run_data import RunData
-from homebench.report.run_set import load_grid_runs, run_differences, run_labels
+from homebench.report.run_set import load_grid_runs, missing_results, run_differences, run_labels
 from homebench.report.tables import (
     FIXED0,
     FIXED2,
@@ -160,8 +160,7 @@ def compare_runs(
         raise ConfigError("compare needs at least two run folders")
     names = run_labels(run_dirs, labels)
     runs = load_grid_runs(run_dirs)
-    warnings = [f"{name}: missing {job}" for name, run in zip(names, runs, strict=True)
-                for job in run.tables.missing_jobs]  # fmt: skip
+    warnings = missing_results(runs, names)
     cells = [_run_cells(run) for run in runs]
     rows = []
     for key in sorted(set().union(*(c.times for c in cells))):

@@ -11,6 +11,7 @@ style of a route run's config. Each run's worlds are its own units of replicatio
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
@@ -28,18 +29,31 @@ from homebench.errors import DataError
 from homebench.experiments.route.config import KLT_SECTOR
 from homebench.report.route_report import load_route_run
 from homebench.report.run_data import grid_run, read_run_info
-from homebench.report.run_set import run_labels
+from homebench.report.run_set import missing_results, run_labels
 from homebench.report.tables import FIXED0, FIXED2, FIXED3, MISSING_TEXT, TableView, make_view
 
 
-def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame]:
+@dataclass(frozen=True)
+class Findings:
+    """The findings ``table`` of run folders
+    (:func:`~homebench.analysis.findings.findings_table`) and ``warnings``: one line per job
+    or trial of theirs without a result (the findings rest on the others)."""
+
+    table: pd.DataFrame
+    warnings: list[str]
+
+
+def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame, list[str]]:
     """The pairs and return-ratio starts of grid runs, each row with its ``world`` (a run's
     swept world: runs never share one) and ``place`` (the swept style; for a run that sweeps
-    none, the run's label). DataError for a run without results, or for runs that hold the
-    same pairs of the same images in one place (a goal pooled twice would count as two)."""
+    none, the run's label), and the runs' missing jobs (:func:`missing_results`). DataError
+    for a run without results, or for runs that hold the same pairs of the same images in
+    one place (a goal pooled twice would count as two)."""
     pairs, starts = [], []
-    for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
-        tables = grid_run(read_run_info(run_dir)).tables
+    labels = run_labels(run_dirs)
+    runs = [grid_run(read_run_info(run_dir)) for run_dir in run_dirs]
+    for k, (run_dir, label, run) in enumerate(zip(run_dirs, labels, runs, strict=True)):
+        tables = run.tables
         if tables.pairs.empty:
             raise DataError(f"{run_dir}: the run has no results")
         pairs.append(_placed(tables.pairs, k, label))
@@ -51,7 +65,7 @@ def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame]:
         for frames in (pairs, starts)
     )
     _refuse_repeated_pairs(pairs_table)
-    return pairs_table, starts_table
+    return pairs_table, starts_table, missing_results(runs, labels)
 
 
 def _placed(frame: pd.DataFrame, run: int, label: str) -> pd.DataFrame:
@@ -82,12 +96,14 @@ def _refuse_repeated_pairs(pairs: pd.DataFrame) -> None:
     )
 
 
-def _route_table(run_dirs: Sequence[Path]) -> pd.DataFrame:
+def _route_table(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, list[str]]:
     """The klt-sector trials of route runs (seed 000's findings are klt-sector's: other
-    methods of a run are left out); DataError when no run holds one."""
-    frames, others = [], set()
+    methods of a run are left out) and one line per trial without a result; DataError when no
+    run holds one."""
+    frames, others, warnings = [], set(), []
     for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
         run = load_route_run(read_run_info(run_dir))
+        warnings += [f"{label}: {line}" for line in run.warnings]
         world = run.config.world
         frame = pd.DataFrame([trial.summary for trial in run.trials])
         points = run.config.method_points()
@@ -104,20 +120,20 @@ def _route_table(run_dirs: Sequence[Path]) -> pd.DataFrame:
             f"trial of the runs used it (methods: {', '.join(sorted(others))}); compare the "
             "methods of a route run in its report's paired tables"
         )
-    return table
+    return table, warnings
 
 
 def findings_of_runs(
     run_dirs: Sequence[Path], roles: SiftRoles = PAPER_ROLES, alpha: float = ALPHA
-) -> pd.DataFrame:
-    """The findings table (:func:`~homebench.analysis.findings.findings_table`) of run
-    folders, all grid runs or all route runs."""
+) -> Findings:
+    """The findings of run folders, all grid runs or all route runs."""
     kinds = {read_run_info(run_dir).kind for run_dir in run_dirs}
     if len(kinds) > 1:
         raise DataError("findings: give run folders of one kind (grid runs or route runs)")
     if kinds == {"route"}:
-        return findings_table(route_findings(_route_table(run_dirs), alpha))
-    pairs, starts = _grid_tables(run_dirs)
+        trials, warnings = _route_table(run_dirs)
+        return Findings(findings_table(route_findings(trials, alpha)), warnings)
+    pairs, starts, warnings = _grid_tables(run_dirs)
     labels = set(pairs["method"])
     absent = [label for label in (roles.p, roles.pn, roles.w) if label not in labels]
     if absent:
@@ -132,7 +148,7 @@ def findings_of_runs(
             f"findings: no condition {absent[0]!r} in the runs (conditions: "
             f"{', '.join(sorted(conditions))}); name them with --original, --arboreal, --day"
         )
-    return findings_table(sift_findings(pairs, starts, roles, alpha))
+    return Findings(findings_table(sift_findings(pairs, starts, roles, alpha)), warnings)
 
 
 #: The findings view's note on the ``missing`` column.

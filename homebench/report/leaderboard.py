@@ -31,14 +31,13 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
-from pydantic import ValidationError
 
 from homebench.analysis.worlds import world_keys, world_label
-from homebench.config import AhcConfig, MethodEntry
+from homebench.config import AhcConfig
 from homebench.errors import DataError
 from homebench.fileio import write_text_atomic
-from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
-from homebench.report.run_set import load_grid_runs, run_labels
+from homebench.report.run_data import RunData
+from homebench.report.run_set import load_grid_runs, missing_results, run_labels
 from homebench.report.tables import (
     MISSING_TEXT,
     SUMMARY_COLUMNS,
@@ -77,25 +76,22 @@ REPORT_FILES = ("report.html", "report.pdf", "report.md")
 
 @dataclass(frozen=True)
 class Leaderboard:
-    """The table and the runs it was drawn from (labels and folders, in order)."""
+    """The table and the runs it was drawn from (labels and folders, in order); ``warnings``:
+    one line per job of theirs without a result (its goals are not in the run's cells)."""
 
     view: TableView
     labels: list[str]
     run_dirs: list[Path]
+    warnings: list[str]
 
 
 def method_configs(run: RunData) -> dict[str, str]:
     """Each method label of ``run``'s config (grid points included) -> its method name and
-    parameters as canonical JSON; DataError naming the entry when one is invalid."""
-    configs = {}
-    for k, entry in enumerate(run.config.get("methods", [])):
-        try:
-            method = MethodEntry.model_validate(entry)
-        except ValidationError as error:
-            raise validation_error(run.run_dir / CONFIG_FILE, f"methods.{k}", error) from None
-        for label, params in method.expand():
-            configs[label] = json.dumps([method.method, params], sort_keys=True, default=str)
-    return configs
+    parameters as canonical JSON."""
+    return {
+        label: json.dumps([name, params], sort_keys=True, default=str)
+        for label, name, params in run.settings.method_points()
+    }
 
 
 def _cells(runs: Sequence[RunData], labels: Sequence[str], columns: Sequence[str]) -> pd.DataFrame:
@@ -220,7 +216,7 @@ def leaderboard(
     wide = cells.pivot(index="row", columns="column", values="text").reindex(rows)[columns]
     frame = wide.fillna(MISSING_TEXT).rename_axis(index="method", columns=None).reset_index()
     view = make_view("leaderboard", _title(metric, ahc), frame, {})
-    return Leaderboard(view, names, [Path(d) for d in run_dirs])
+    return Leaderboard(view, names, [Path(d) for d in run_dirs], missing_results(runs, names))
 
 
 def write_index(board: Leaderboard, path: Path) -> Path:

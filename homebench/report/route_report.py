@@ -27,7 +27,6 @@ from homebench.errors import DataError
 from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
 from homebench.experiments.route.experiment import RouteJob, RouteTrial, route_jobs
 from homebench.experiments.route.probes import ridf_figure
-from homebench.experiments.trials import read_trial
 from homebench.report.pages import environment_lines, run_lines
 from homebench.report.route_compare import (
     error_interval_figure,
@@ -68,8 +67,6 @@ TRIAL_COLUMNS: Columns = {
     "odometry_heading_error_deg": ("odometry heading error [deg]", FIXED2, 1.0),
     "odometry_drift_at_end_m": ("odometry drift at route end [cm]", FIXED2, 100.0),
 }
-#: Summary keys every trial file must hold (the tables' sources).
-SUMMARY_KEYS = frozenset({*TRIAL_COLUMNS, "route", "length_m"})
 #: Columns of the per-length table: aggregate -> (header, digits, scale); None: text.
 LENGTH_COLUMNS: Columns = {
     "route": ("route", None, 1.0),
@@ -123,36 +120,27 @@ class RouteRun:
 
 
 def _trial_data(record: dict[str, Any], trial: RouteTrial, label: str) -> TrialData:
-    """The trial's summary and poses; KeyError, TypeError or ValueError when malformed."""
-    summary = record["summary"]
-    if not isinstance(summary, dict):
-        raise TypeError("'summary' is not an object")
-    absent = sorted(SUMMARY_KEYS - summary.keys())
-    if absent:
-        raise KeyError(f"summary.{absent[0]}")
+    """The trial's summary and poses (a record that fits its schema:
+    :class:`~homebench.experiments.route.records.RouteRecord`); ValueError when its
+    intermediate positions are no frames of its route."""
     result = RouteResult(
         label, record["outbound"], record["homing"], record["intermediate"],
         record["odometry"], trial=trial.name, planned_length_m=trial.length,
     )  # fmt: skip
-    probes = record.get("probes")
-    if probes is not None and not isinstance(probes, list):
-        raise TypeError("'probes' is not a list")
-    return TrialData(trial, label, {**summary, "method": label}, result, probes)
+    probes = record.get("probes") or None
+    return TrialData(trial, label, {**record["summary"], "method": label}, result, probes)
 
 
 def _load_trial(job: RouteJob, run_dir: Path) -> TrialData | str:
     """The trial of ``job``, or why it has none: "routes/x.json (trial x: missing)"."""
-    path = job.result_path(run_dir)
-    record = read_trial(path, run_dir, job.trial.name, job.key)
+    record = job.read(run_dir)
     if isinstance(record, str):
         return record
-    where = f"{path.relative_to(run_dir).as_posix()} (trial {job.trial.name}"
     try:
         return _trial_data(record, job.trial, job.label)
-    except KeyError as error:
-        return f"{where}: corrupt, no {error})"
-    except (TypeError, ValueError) as error:
-        return f"{where}: corrupt, {error})"
+    except ValueError as error:
+        where = f"{job.result_path(run_dir).relative_to(run_dir).as_posix()}"
+        return f"{where} (trial {job.trial.name}: corrupt, {error})"
 
 
 def load_route_run(info: RunInfo) -> RouteRun:

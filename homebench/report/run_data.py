@@ -10,11 +10,12 @@ from typing import Any
 from pydantic import ValidationError
 
 from homebench.analysis.tables import RunTables
-from homebench.config import MetricsConfig, kind_of
+from homebench.config import MetricsConfig, ResolvedRunConfig, RunConfig, kind_of
 from homebench.data.naming import database_label
 from homebench.errors import DataError
 from homebench.evaluation.results import build_tables
 from homebench.fileio import parse_json, read_record_text
+from homebench.report.environment_record import EnvironmentRecord
 
 CONFIG_FILE = "config.resolved.json"
 ENVIRONMENT_FILE = "environment.json"
@@ -52,10 +53,15 @@ class RunInfo:
 
 @dataclass(frozen=True)
 class RunData(RunInfo):
-    """Everything a grid report draws from: the run's metrics settings and tables."""
+    """Everything a grid report draws from: the run's ``settings`` (its resolved config,
+    validated), metrics settings and tables."""
 
-    metrics: MetricsConfig
+    settings: RunConfig
     tables: RunTables
+
+    @property
+    def metrics(self) -> MetricsConfig:
+        return self.settings.metrics
 
     @property
     def conditions(self) -> list[str]:
@@ -103,36 +109,44 @@ def _read_json(path: Path) -> dict[str, Any]:
 
 
 def read_run_info(run_dir: Path) -> RunInfo:
-    """Read a run folder's config and environment; DataError naming the file when it is not
-    a run folder or a file is corrupt."""
+    """Read a run folder's config and environment; DataError naming the file (and key) when
+    it is not a run folder, a file is corrupt, or the environment does not fit its schema
+    (:class:`~homebench.report.environment_record.EnvironmentRecord`; the config is checked
+    by the reader of its kind)."""
     run_dir = Path(run_dir)
     if not run_dir.is_dir():
         raise DataError(f"{run_dir}: no such run folder")
-    return RunInfo(
-        run_dir, _read_json(run_dir / CONFIG_FILE), _read_json(run_dir / ENVIRONMENT_FILE)
-    )
+    config, environment = (_read_json(run_dir / name) for name in (CONFIG_FILE, ENVIRONMENT_FILE))
+    try:
+        EnvironmentRecord.model_validate(environment)
+    except ValidationError as error:
+        raise validation_error(run_dir / ENVIRONMENT_FILE, "", error) from None
+    return RunInfo(run_dir, config, environment)
 
 
 def validation_error(path: Path, prefix: str, error: ValidationError) -> DataError:
     """``error``'s first problem as a DataError naming ``path`` and the key under ``prefix``."""
     first = error.errors()[0]
     where = ".".join(str(p) for p in (prefix, *first["loc"]) if p != "")
-    return DataError(f"{path}: {where}: {first['msg']}")
+    message = first["msg"].removeprefix("Value error, ")
+    return DataError(f"{path}: {where}: {message}" if where else f"{path}: {message}")
 
 
 def grid_run(info: RunInfo, tables: RunTables | None = None) -> RunData:
-    """The metrics settings and tables of a grid run: ``tables`` when the caller has built them
-    from this folder with its config's metrics (as ``homebench run`` has), else read here.
+    """The settings and tables of a grid run: ``tables`` when the caller has built them from
+    this folder with its config's metrics (as ``homebench run`` has), else read here.
+    DataError naming the file and key when its resolved config does not fit its schema
+    (:class:`~homebench.config.ResolvedRunConfig`).
 
     Missing or corrupt job files do not raise: they are listed in ``tables.missing_jobs``.
     """
     try:
-        metrics = MetricsConfig.model_validate(info.config.get("metrics", {}))
+        settings = ResolvedRunConfig.model_validate(info.config)
     except ValidationError as error:
-        raise validation_error(info.run_dir / CONFIG_FILE, "metrics", error) from None
+        raise validation_error(info.run_dir / CONFIG_FILE, "", error) from None
     if tables is None:
-        tables = build_tables(info.run_dir, metrics)
-    return RunData(info.run_dir, info.config, info.environment, metrics, tables)
+        tables = build_tables(info.run_dir, settings.metrics)
+    return RunData(info.run_dir, info.config, info.environment, settings, tables)
 
 
 def load_run(run_dir: Path) -> RunData:

@@ -40,6 +40,16 @@ def load_grid_runs(run_dirs: Sequence[Path]) -> list[RunData]:
     return runs
 
 
+def missing_results(runs: Sequence[RunData], labels: Sequence[str]) -> list[str]:
+    """One line per job of the runs without a valid result: "label: missing jobs/x.json
+    (condition, method, goal (i, j))"."""
+    return [
+        f"{label}: missing {job}"
+        for label, run in zip(labels, runs, strict=True)
+        for job in run.tables.missing_jobs
+    ]
+
+
 def run_labels(run_dirs: Sequence[Path], labels: Sequence[str] = ()) -> list[str]:
     """A short unique label per run folder: ``labels`` when given (one per folder), else the
     folder's name with as many parent folders as tell repeated names apart."""

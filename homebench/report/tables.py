@@ -30,12 +30,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
-from pydantic import ValidationError
 
 from homebench.analysis.tables import FLIP_DEG, RunTables
-from homebench.config import AhcConfig, MethodEntry
+from homebench.config import AhcConfig
 from homebench.fileio import write_text_atomic
-from homebench.report.run_data import CONFIG_FILE, RunData, validation_error
+from homebench.report.run_data import RunData
 
 if TYPE_CHECKING:
     from homebench.config import RunConfig
@@ -240,12 +239,7 @@ class RowOrder:
 def run_order(run: RunData) -> RowOrder:
     """The config order of a run folder's conditions and methods (``config["methods"]``: the
     method entries of the resolved config, each expanded to its grid points' labels)."""
-    labels = []
-    for k, entry in enumerate(run.config.get("methods", [])):
-        try:
-            labels += [label for label, _ in MethodEntry.model_validate(entry).expand()]
-        except ValidationError as error:
-            raise validation_error(run.run_dir / CONFIG_FILE, f"methods.{k}", error) from None
+    labels = [label for label, _, _ in run.settings.method_points()]
     return RowOrder(tuple(run.conditions), tuple(labels))
 
 

@@ -12,9 +12,10 @@ them), never infinite; Z may be empty (homebench does not use it). A ``Frame`` c
 ``Filename`` is a video database, which homebench does not read.
 
 Bounds: at most :data:`MAX_ENTRIES_BYTES` and :data:`MAX_ENTRIES` rows; a grid index has at most
-7 digits; a file name follows the manifest's rule (no empty, '.' or '..' component, no leading
-'/', no backslash or control character), so that it cannot leave the database folder. Every
-problem is one DataError naming the file and line.
+7 digits; a heading at most :data:`MAX_HEADING_DEG` degrees either way; a file name follows the
+manifest's rule (no empty, '.' or '..' component, no leading '/', no backslash or control
+character), so that it cannot leave the database folder. Every problem is one DataError
+naming the file and line.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.data.manifest import MAX_GRID_POSITIONS, outside_problem
+from homebench.data.progress import over
 from homebench.errors import DataError
 from homebench.fileio import read_small_text
 
@@ -37,6 +39,9 @@ from homebench.fileio import read_small_text
 MAX_ENTRIES = MAX_GRID_POSITIONS
 #: Largest entries file: a million rows of 250 bytes (positions, a name, sensor columns).
 MAX_ENTRIES_BYTES = 256 << 20
+#: Largest heading (degrees, either way): a recorder that counts turns does not turn 2,778
+#: times; beyond, the degrees are no angle (at 1e17 a double cannot tell 360 from 0).
+MAX_HEADING_DEG = 1e6
 
 POSITION = ("X [mm]", "Y [mm]", "Z [mm]")
 HEADING = "Heading [degrees]"
@@ -89,8 +94,9 @@ def read_entries(path: Path) -> Entries:
             raise DataError(f"{path}: the entries file is empty (no header line)")
         columns = _columns(path, [name.strip() for name in header])
         rows: list[tuple[int, list[str]]] = []
-        for row in reader:
-            if not any(cell.strip() for cell in row):
+        for row in over(reader, None, f"read {path.name}", "row"):
+            cells = [cell.strip() for cell in row]
+            if not any(cells):
                 continue  # a blank line
             if len(row) != len(header):
                 raise DataError(
@@ -99,7 +105,7 @@ def read_entries(path: Path) -> Entries:
                 )
             if len(rows) == MAX_ENTRIES:
                 raise DataError(f"{path}: more than {MAX_ENTRIES:,} images")
-            rows.append((reader.line_num, [cell.strip() for cell in row]))
+            rows.append((reader.line_num, cells))
     except csv.Error as error:
         raise DataError(f"{path}:{reader.line_num}: not CSV ({error})") from None
     if not rows:
@@ -133,35 +139,54 @@ def _columns(path: Path, names: list[str]) -> dict[str, int]:
 
 
 def _entries(path: Path, columns: dict[str, int], rows: list[tuple[int, list[str]]]) -> Entries:
-    """The parsed ``rows`` (line, cells)."""
-    xyz, heading, files, grid, time = [], [], [], [], []
-    has_grid = GRID[0] in columns
-    for line, cells in rows:
-        where = f"{path}:{line}"
-        x, y, z = (_number(cells[columns[name]], name, where) for name in POSITION)
-        h = _number(cells[columns[HEADING]], HEADING, where)
-        for name, value in ((POSITION[0], x), (POSITION[1], y), (HEADING, h)):
-            if math.isinf(value):
-                raise DataError(
-                    f"{where}: {name} is {cells[columns[name]]}: a position or heading is a "
-                    "finite number, or empty or nan where there is none"
-                )
-        xyz.append((x, y, z))
-        heading.append(h)
-        files.append(_file_name(cells[columns[FILENAME]], where))
-        if has_grid:
-            grid.append([_index(cells[columns[name]], name, where) for name in GRID])
-        if TIMESTAMP in columns:
-            time.append(_time(cells[columns[TIMESTAMP]]))
-    return Entries(
-        path=path,
-        xyz_mm=np.array(xyz, dtype=np.float64),
-        heading_deg=np.array(heading, dtype=np.float64),
-        files=tuple(files),
-        grid=np.array(grid, dtype=np.int64) if has_grid else None,
-        lines=tuple(line for line, _ in rows),
-        time_ms=np.array(time, dtype=np.float64) if TIMESTAMP in columns else None,
-    )
+    """The parsed ``rows`` (line, cells), column by column."""
+    lines = tuple(line for line, _ in rows)
+    table = list(zip(*(cells for _, cells in rows), strict=True))  # the cells of each column
+    cells = {name: table[k] for name, k in columns.items()}
+    xyz = np.column_stack([_numbers(cells[name], name, path, lines) for name in POSITION])
+    heading = _numbers(cells[HEADING], HEADING, path, lines)
+    for name, values in ((POSITION[0], xyz[:, 0]), (POSITION[1], xyz[:, 1]), (HEADING, heading)):
+        _refuse(path, lines, cells[name], name, np.isinf(values), INFINITE)
+    _refuse(path, lines, cells[HEADING], HEADING, np.abs(heading) > MAX_HEADING_DEG, FAR)
+    for k, name in enumerate(cells[FILENAME]):
+        _file_name(name, f"{path}:{lines[k]}")
+    grid = None
+    if GRID[0] in columns:
+        grid = np.array([_indices(cells[name], name, path, lines) for name in GRID]).T
+    time = None
+    if TIMESTAMP in columns:
+        time = np.array([_time(cell) for cell in cells[TIMESTAMP]], dtype=np.float64)
+    return Entries(path, xyz, heading, cells[FILENAME], grid, lines, time)
+
+
+#: Why a position or heading that :func:`_refuse` refuses cannot be one.
+INFINITE = "a position or heading is a finite number, or empty or nan where there is none"
+FAR = f"a heading is at most {MAX_HEADING_DEG:,.0f} degrees either way (2,778 turns)"
+
+
+def _refuse(
+    path: Path, lines: tuple[int, ...], cells: tuple[str, ...], column: str,
+    wrong: NDArray[np.bool_], why: str,
+) -> None:  # fmt: skip
+    """DataError naming the line of the first of ``cells`` (of ``column``) that is ``wrong``:
+    "file:7: Heading [degrees] is inf: ``why``"."""
+    first = np.flatnonzero(wrong)
+    if first.size:
+        k = int(first[0])
+        raise DataError(f"{path}:{lines[k]}: {column} is {cells[k]}: {why}")
+
+
+def _numbers(
+    cells: tuple[str, ...], column: str, path: Path, lines: tuple[int, ...]
+) -> NDArray[np.float64]:
+    """The numbers in ``cells`` (empty: NaN), shape (n,); DataError naming the line of the
+    first that is none."""
+    try:
+        return np.array([float(cell) if cell else math.nan for cell in cells], dtype=np.float64)
+    except ValueError:
+        for k, cell in enumerate(cells):
+            _number(cell, column, f"{path}:{lines[k]}")
+        raise
 
 
 def _number(cell: str, column: str, where: str) -> float:
@@ -172,6 +197,11 @@ def _number(cell: str, column: str, where: str) -> float:
         return float(cell)
     except ValueError:
         raise DataError(f"{where}: {column} {cell!r} is not a number") from None
+
+
+def _indices(cells: tuple[str, ...], column: str, path: Path, lines: tuple[int, ...]) -> list[int]:
+    """The grid indices in ``cells``; DataError naming the line of the first that is none."""
+    return [_index(cell, column, f"{path}:{lines[k]}") for k, cell in enumerate(cells)]
 
 
 def _time(cell: str) -> float:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import functools
 import os
 import re
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -62,11 +63,9 @@ def _stamp(path: Path) -> Stamp:
 def _open(folder: Path, stamps: tuple[Stamp, ...], overrides: BobOverrides | None) -> PosedDatabase:
     """The database in ``folder`` as of its description files' ``stamps``."""
     inside = _Inside(folder)
-    for name in DESCRIPTION_FILES:
-        inside.check(name, str(folder / name))
+    inside.check(DESCRIPTION_FILES, lambda k: str(folder / DESCRIPTION_FILES[k]))
     entries = read_entries(folder / ENTRIES_NAME)
-    for k, name in enumerate(entries.files):
-        inside.check(name, entries.where(k))
+    inside.check(entries.files, entries.where)
     metadata = read_metadata(folder / METADATA_NAME)
     own = read_overrides(folder / OVERRIDES_NAME)
     merged = overrides.over(own) if overrides is not None else own or BobOverrides()
@@ -155,24 +154,35 @@ class _Inside:
     def __init__(self, folder: Path):
         self.folder = folder
         self.real = os.path.realpath(folder)
-        self.parents: dict[str, str] = {}  # a file's folder -> its real path
+        self.inner = os.path.join(self.real, "")  # what every path inside starts with
+        self.parents: dict[str, str | None] = {}  # a file's folder -> its real path if outside
 
-    def check(self, name: str, where: str) -> None:
-        """DataError starting with ``where`` when ``name`` lies outside the folder."""
+    def check(self, names: Sequence[str], where: Callable[[int], str]) -> None:
+        """DataError starting with ``where(k)`` for the first of ``names`` (the k-th) that
+        lies outside the folder."""
+        for k, name in enumerate(names):
+            real = self._outside(name)
+            if real is not None:
+                raise DataError(
+                    f"{where(k)}: {name} leads through a symbolic link to {real}, outside the "
+                    f"database folder {self.real}"
+                )
+
+    def _outside(self, name: str) -> str | None:
+        """Where ``name`` leads, links followed, if that lies outside the folder; else None.
+        A file that is no link lies where its folder does (each folder resolved once)."""
         path = os.path.join(self.folder, name)
+        if os.path.islink(path):
+            return self._beyond(os.path.realpath(path))
         parent, base = os.path.split(path)
         if parent not in self.parents:
-            self.parents[parent] = os.path.realpath(parent)
-        real = (
-            os.path.realpath(path)
-            if os.path.islink(path)
-            else os.path.join(self.parents[parent], base)
-        )
-        if os.path.commonpath([self.real, real]) != self.real:
-            raise DataError(
-                f"{where}: {name} leads through a symbolic link to {real}, outside the database "
-                f"folder {self.real}"
-            )
+            self.parents[parent] = self._beyond(os.path.realpath(parent))
+        outside = self.parents[parent]
+        return None if outside is None else os.path.join(outside, base)
+
+    def _beyond(self, real: str) -> str | None:
+        """``real`` (a resolved path) if it lies outside the folder, else None."""
+        return None if real == self.real or real.startswith(self.inner) else real
 
 
 def _is_grid(metadata: Metadata | None, entries: Entries, folder: Path) -> bool:

@@ -19,6 +19,7 @@ Dispatched on ``kind: closed-loop``. Example (see ``configs/closed_loop.yaml``):
     motion: {step_length: 0.1, max_turn_deg: 30, success_radius: 0.15, budget_factor: 3}
     render: {lattice: 0.02}
     training: {routes: 8, length_m: 1.5, spacing_m: 0.1}  # route-learning methods' views
+    job_timeout_s: 3600                   # a trial running longer fails (null: never)
 
 Defaults and why:
 
@@ -70,8 +71,15 @@ from pydantic import (
     model_validator,
 )
 
-from homebench.bounds import count_problem
-from homebench.config import MethodEntry, UnfoldConfig, _Strict, method_points
+from homebench.bounds import MAX_TRIAL_FRAMES, count_problem
+from homebench.config import (
+    DEFAULT_JOB_TIMEOUT_S,
+    JobTimeout,
+    MethodEntry,
+    UnfoldConfig,
+    _Strict,
+    method_points,
+)
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.experiments.memory import check_robot_entries, is_memory_method
 from homebench.experiments.robot import DriftModel, MotionLimits
@@ -107,6 +115,8 @@ class GoalSpec(_Strict):
 def _ordered(region: Region | None) -> Region | None:
     if region is not None and not (region[0] < region[2] and region[1] < region[3]):
         raise ValueError(f"region {list(region)} is not [x_min, y_min, x_max, y_max]")
+    if region is not None and not math.isfinite((region[2] - region[0]) * (region[3] - region[1])):
+        raise ValueError(f"region {list(region)}: its area is no finite number of m^2")
     return region
 
 
@@ -161,7 +171,7 @@ class ClosedLoopMotion(MotionLimits):
     success_radius: float = Field(0.15, gt=0)
     budget_factor: float | None = Field(3.0, ge=1)
     budget_m: float | None = Field(None, gt=0)
-    max_steps: int = Field(150, ge=1)
+    max_steps: int = Field(150, ge=1, le=MAX_TRIAL_FRAMES)
     min_start_distance: float | None = Field(None, ge=0)  # None: 2 x success_radius
     no_estimate: Literal["continue", "stop"] = "continue"
 
@@ -211,6 +221,16 @@ class TrainingRoutes(_Strict):
     length_m: float = Field(1.5, gt=0)
     spacing_m: float = Field(0.1, gt=0)
 
+    @model_validator(mode="after")
+    def _bounded(self) -> TrainingRoutes:
+        views = self.routes * (self.length_m / self.spacing_m)
+        if views > MAX_TRIAL_FRAMES:
+            raise ValueError(
+                f"routes x length_m / spacing_m: {views:,.0f} training views per goal, more "
+                f"than the {MAX_TRIAL_FRAMES:,} one trial can hold"
+            )
+        return self
+
     def poses(self, goal: Pose) -> list[Pose]:
         """The training poses for ``goal``, in learning order: route by route (ccw from the
         goal's heading), each from its far end in, facing the goal."""
@@ -233,6 +253,7 @@ class ClosedLoopConfig(_Strict):
     output: Path
     seed: int = Field(0, ge=0)
     jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
+    job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a trial running longer fails
     world: WorldSpec = WorldSpec()
     styles: list[Style] = Field(default_factory=list)
     database: str | None = None

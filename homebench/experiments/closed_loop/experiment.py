@@ -19,7 +19,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -33,14 +33,15 @@ from homebench.evaluation.runner import run_parallel, write_run_metadata
 from homebench.experiments.closed_loop.config import ClosedLoopConfig
 from homebench.experiments.closed_loop.homers import Homer, MethodHomer, RandomHomer, TruthHomer
 from homebench.experiments.closed_loop.loop import run_loop
+from homebench.experiments.closed_loop.records import ClosedLoopRecord
 from homebench.experiments.closed_loop.starts import Start, free_starts, goal_pose, goal_starts
 from homebench.experiments.closed_loop.tables import TABLES_DIR, write_tables
 from homebench.experiments.closed_loop.views import LatticeViews
 from homebench.experiments.memory import MemoryGuide, is_memory_method
 from homebench.experiments.robot import Robot
 from homebench.experiments.scene import Scene, database_content, forget_databases, open_scene
-from homebench.experiments.trials import TrialRunOutcome
-from homebench.fileio import make_folder, read_json_record, write_text_atomic
+from homebench.experiments.trials import TrialFile, TrialRecord, TrialRunOutcome
+from homebench.fileio import make_folder, write_text_atomic
 from homebench.geometry import Pose
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
@@ -119,9 +120,10 @@ def trial_scene(config: ClosedLoopConfig, style: str) -> Scene:
 
 
 @dataclass(frozen=True)
-class ClosedLoopJob:
-    """A trial with the config it runs under and its key."""
+class ClosedLoopJob(TrialFile):
+    """A trial with the config it runs under and its key; its file's schema."""
 
+    schema: ClassVar[type[TrialRecord]] = ClosedLoopRecord
     config: ClosedLoopConfig
     trial: Trial
 
@@ -148,6 +150,11 @@ class ClosedLoopJob:
         t = self.trial
         name = f"g{t.goal}_s{t.start.index:05d}.json"
         return run_dir / TRIALS_DIR / t.style / _folder_name(t.label) / name
+
+    def names(self) -> dict[str, Any]:
+        """The summary columns that say which trial a file is of."""
+        t = self.trial
+        return {"style": t.style, "method": t.label, "goal": t.goal, "start": t.start.index}
 
 
 @functools.cache
@@ -322,8 +329,9 @@ def run_closed_loop_job(job: ClosedLoopJob, run_dir: Path) -> JobOutcome:
 
 
 def read_records(plan: list[ClosedLoopJob], run_dir: Path) -> list[dict[str, Any] | None]:
-    """Each planned trial's record, None where its file is missing or of another key."""
-    return [read_json_record(job.result_path(run_dir), job.key) for job in plan]
+    """Each planned trial's record, None where its file is missing, of another key or does
+    not fit the schema."""
+    return [job.record(run_dir) for job in plan]
 
 
 def run_closed_loop_experiment(
@@ -333,7 +341,8 @@ def run_closed_loop_experiment(
     force: bool = False,
     show_progress: bool = True,
 ) -> TrialRunOutcome:
-    """Run every unfinished trial of ``config`` and write the tables."""
+    """Run every unfinished trial of ``config`` and write the tables; a trial running
+    longer than the config's ``job_timeout_s`` fails."""
     forget_databases()  # read as they are now: an edited database gives other keys
     try:
         plan = [ClosedLoopJob(config, trial) for trial in plan_trials(config)]
@@ -347,12 +356,13 @@ def run_closed_loop_experiment(
     if force:
         for job in plan:
             job.result_path(run_dir).unlink(missing_ok=True)
-    todo = [job for job in plan if read_json_record(job.result_path(run_dir), job.key) is None]
+    todo = [job for job in plan if job.record(run_dir) is None]
     n_jobs = jobs if jobs is not None else config.jobs
     preload = preload_for(config.methods)
     outcomes = run_parallel(
-        run_closed_loop_job, todo, run_dir, n_jobs, "trials", show_progress, preload
-    )
+        run_closed_loop_job, todo, run_dir, n_jobs, "trials", show_progress, preload,
+        config.job_timeout_s, len(plan) - len(todo),
+    )  # fmt: skip
     records = [r for r in read_records(plan, run_dir) if r is not None]
     summary = write_tables(records, config, run_dir / TABLES_DIR)
     failures = tuple(outcome for outcome in outcomes if outcome.error)
@@ -360,7 +370,7 @@ def run_closed_loop_experiment(
         run_dir,
         summary,
         run_dir / TABLES_DIR / "summary.csv",
-        len(todo),
+        len(todo) - len(failures),
         len(plan) - len(todo),
         failures,
     )

@@ -30,6 +30,7 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
       near_home_m: 1.0                           # arrival watched this near home (odometry)
       probes: {spacing_m: 0.5, offsets_m: [-0.5, 0, 0.5]}   # heading field beside the route
     success_radius_m: 0.1                        # success: the final position this near home
+    job_timeout_s: 3600                          # a trial running longer fails (null: never)
 
 ``klt-sector`` keeps seed 000's own route homing (KLT tracking on the way out, intermediate
 positions from the feature life-cycles, the sector law; set by ``tracker`` and ``homing``, so its
@@ -66,8 +67,15 @@ from pydantic import (
     model_validator,
 )
 
-from homebench.bounds import count_problem
-from homebench.config import ALIAS, MethodEntry, UnfoldConfig, method_points
+from homebench.bounds import MAX_FRAMES, MAX_TRIAL_FRAMES, count_problem
+from homebench.config import (
+    ALIAS,
+    DEFAULT_JOB_TIMEOUT_S,
+    JobTimeout,
+    MethodEntry,
+    UnfoldConfig,
+    method_points,
+)
 from homebench.data.synth.spec import WorldSpec
 from homebench.errors import ConfigError
 from homebench.experiments.memory import is_memory_method, robot_entry_error
@@ -147,6 +155,28 @@ class RouteSpec(_Strict):
         assert not self.is_recorded, "a recorded route has a length once replayed"
         return float(np.sum(np.hypot(*np.diff(np.asarray(self.waypoints), axis=0).T)))
 
+    def frames(self, motion: MotionLimits) -> float:
+        """Most frames a drive of the whole route can take under ``motion``: a step per
+        ``step_length`` metres, and on every segment a turn of up to 180 deg in steps of
+        ``max_turn_deg`` (each count rounded up); inf for a route of infinite length."""
+        segments = len(self.waypoints) - 1
+        turns = 180.0 / motion.max_turn_deg + 2.0
+        return self.length / motion.step_length + segments * turns + 1.0
+
+    def frames_problem(self, key: str, motion: MotionLimits) -> str:
+        """Why a drive of the route (config key ``key``) would take more frames than one trial
+        can hold (:data:`~homebench.bounds.MAX_TRIAL_FRAMES`), naming the key; "" otherwise."""
+        frames = self.frames(motion)
+        if frames <= MAX_TRIAL_FRAMES:
+            return ""
+        shown = f"{frames:,.0f}" if frames < 1e15 else f"{frames:.3g}"
+        return (
+            f"{key}.waypoints: a route of {self.length:.6g} m at motion.step_length "
+            f"{motion.step_length:g} m (turning motion.max_turn_deg {motion.max_turn_deg:g} deg "
+            f"a step) takes up to {shown} frames, more than the {MAX_TRIAL_FRAMES:,} one trial "
+            "can hold"
+        )
+
     @model_serializer(mode="wrap")
     def _omit_displacements(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
         """The fields, without ``displacements_m`` when not given (a resolved config, and its
@@ -171,20 +201,25 @@ class RouteSpec(_Strict):
             raise ValueError(f"length {too_long[0]} m exceeds the route's {self.length:.3f} m")
         return self
 
-    def replayed(self, xy: NDArray[np.float64], where: str) -> RouteSpec:
+    def replayed(self, xy: NDArray[np.float64], where: str, motion: MotionLimits) -> RouteSpec:
         """This recorded route along the recorded poses ``xy`` (n, 2), metres, in order; poses
         within :data:`MIN_STEP_M` of the last one kept are dropped. ConfigError starting with
-        ``where`` when the poses do not make the route (its lengths too long)."""
+        ``where`` when the poses do not make the route (its lengths too long, more frames under
+        ``motion`` than a trial can hold)."""
         kept = [xy[0]]
         for point in xy[1:]:
             if math.dist(point, kept[-1]) >= MIN_STEP_M:
                 kept.append(point)
         waypoints = [(float(x), float(y)) for x, y in kept]
         try:
-            return RouteSpec.model_validate(self.model_dump() | {"waypoints": waypoints})
+            route = RouteSpec.model_validate(self.model_dump() | {"waypoints": waypoints})
         except ValidationError as error:
             problem = error.errors()[0]
             raise ConfigError(f"{where}: the recorded poses: {problem['msg']}") from None
+        problem = route.frames_problem("the recorded poses", motion)
+        if problem:
+            raise ConfigError(f"{where}: {problem}")
+        return route
 
     def in_world(self, grid_origin: tuple[float, float]) -> RouteSpec:
         """This route with world-frame waypoints (``grid_origin``: the capture grid's, metres)."""
@@ -219,6 +254,7 @@ class RouteConfig(_Strict):
     output: Path
     seed: int = Field(0, ge=0)
     jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
+    job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a trial running longer fails
     world: WorldSpec = WorldSpec()
     # Or a database (known name, manifest path or Brains on Board folder): the robot sees the
     # nearest grid image, or the nearest recorded image of a recorded route.
@@ -254,7 +290,7 @@ class RouteConfig(_Strict):
                 f"routes.{recorded[0]}: waypoints 'recorded' follow a database's recorded poses; "
                 "give 'database' (a Brains on Board route folder)"
             )
-        problem = self._count_problem()
+        problem = self._size_problem()
         if problem:
             raise ValueError(problem)
         names = [route.name for route in self.routes]
@@ -293,18 +329,36 @@ class RouteConfig(_Strict):
             data.pop("world", None)
         return data
 
-    def _count_problem(self) -> str:
-        """Why the run would hold more trials than one run can (every route's lengths x repeats
-        x the methods), naming the counts of the route with the most; "" when it would not."""
+    def _size_problem(self) -> str:
+        """Why the run would hold more than one run can, naming the keys ("" when it would
+        not): more trials (every route's lengths x repeats x the methods; the counts of the
+        route with the most), a route of more frames than a trial can hold, or more frames in
+        all (each route's frames x its trials x the methods; the counts of the route with the
+        most). A recorded route is counted once replayed (:meth:`RouteSpec.replayed`)."""
         trials = [route.trials_per_repeat * route.repeats for route in self.routes]
+        methods = sum(entry.n_points for entry in self.methods)
         k = trials.index(max(trials))
-        counts = {
-            f"routes[{k}].repeats": self.routes[k].repeats,
-            f"routes[{k}].lengths": len(self.routes[k].lengths or [None]),
-            f"routes[{k}].displacements_m": len(self.routes[k].displacements_m or [None]),
-            "methods": sum(entry.n_points for entry in self.methods),
+        problem = count_problem(self._counts(k, methods), "trials", total=sum(trials) * methods)
+        drawn = [(k, route) for k, route in enumerate(self.routes) if not route.is_recorded]
+        for k, route in drawn:
+            problem = problem or route.frames_problem(f"routes[{k}]", self.motion)
+        if problem or not drawn:
+            return problem
+        frames = {k: math.ceil(route.frames(self.motion)) for k, route in drawn}
+        k = max(frames, key=lambda k: frames[k] * trials[k])
+        counts = {**self._counts(k, methods), f"routes[{k}].waypoints": frames[k]}
+        total = sum(n * trials[k] for k, n in frames.items()) * methods
+        return count_problem(counts, "frames", MAX_FRAMES, total=total)
+
+    def _counts(self, k: int, methods: int) -> dict[str, int]:
+        """The counts whose product is route ``k``'s trials, by the key that sets each."""
+        route = self.routes[k]
+        return {
+            f"routes[{k}].repeats": route.repeats,
+            f"routes[{k}].lengths": len(route.lengths or [None]),
+            f"routes[{k}].displacements_m": len(route.displacements_m or [None]),
+            "methods": methods,
         }
-        return count_problem(counts, "trials", total=sum(trials) * counts["methods"])
 
     def method_points(self) -> list[tuple[str, str, dict[str, Any]]]:
         """(label, method name, params) of every method entry and grid point, in order."""

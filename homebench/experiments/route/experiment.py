@@ -34,7 +34,7 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pandas as pd
@@ -62,11 +62,12 @@ from homebench.experiments.route.outbound import (
 )
 from homebench.experiments.route.pairwise import PairwiseHoming, Target, grey, home_pairwise
 from homebench.experiments.route.probes import catchment, plan_probes, probe_route, probe_tables
+from homebench.experiments.route.records import RouteRecord
 from homebench.experiments.route.snapshots import SnapshotRule, similarity_frames, spacing_frames
 from homebench.experiments.route.visual import home_visually
 from homebench.experiments.scene import Camera, Scene, forget_databases, open_scene
-from homebench.experiments.trials import TrialRunOutcome
-from homebench.fileio import make_folder, read_json_record, write_text_atomic
+from homebench.experiments.trials import TrialFile, TrialRecord, TrialRunOutcome
+from homebench.fileio import make_folder, write_text_atomic
 from homebench.geometry import FloatArray, Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
@@ -132,7 +133,7 @@ def world_routes(config: RouteConfig, config_path: Path | str = "config") -> lis
                 f"{config.database!r} is a grid (give waypoints)"
             )
         else:
-            routes.append(route.replayed(scene.recorded.xy, where))
+            routes.append(route.replayed(scene.recorded.xy, where, config.motion))
     return routes
 
 
@@ -164,10 +165,11 @@ def _code(name: str) -> str:
 
 
 @dataclass(frozen=True)
-class RouteJob:
+class RouteJob(TrialFile):
     """A trial homed by the method entry ``label`` of the config it runs under, and its key
-    (a hash of all that decides it)."""
+    (a hash of all that decides it); its file's schema."""
 
+    schema: ClassVar[type[TrialRecord]] = RouteRecord
     config: RouteConfig
     trial: RouteTrial
     label: str = KLT_SECTOR
@@ -221,6 +223,10 @@ class RouteJob:
             folder = folder / self.label
         return folder / f"{self.trial.name}.json"
 
+    def names(self) -> dict[str, Any]:
+        """The summary columns that say which job a file is of."""
+        return {"trial": self.trial.name, "route": self.trial.route}
+
 
 def route_jobs(config: RouteConfig) -> list[RouteJob]:
     """Every (trial, method) of ``config``, trial by trial, methods in config order."""
@@ -233,12 +239,11 @@ def check_routes(config: RouteConfig, scene: Scene, config_path: Path) -> None:
     displaced homing start (placed from the planned end of its trial's route)."""
     index = {route.name: k for k, route in enumerate(config.routes)}
     for k, route in enumerate(world_routes(config, config_path)):
-        points = np.asarray(route.waypoints, dtype=np.float64)
-        for a, b in zip(points[:-1], points[1:], strict=True):
-            n = max(1, math.ceil(math.dist(a, b) / CHECK_SPACING))
-            for x, y in a + np.linspace(0.0, 1.0, n + 1)[:, None] * (b - a):
-                where = f"{config_path}: routes[{k}] ({route.name})"
-                _check_pose(scene, Pose(float(x), float(y)), where)
+        where = f"{config_path}: routes[{k}] ({route.name})"
+        for (x0, y0), (x1, y1) in itertools.pairwise(route.waypoints):
+            n = max(1, math.ceil(math.dist((x0, y0), (x1, y1)) / CHECK_SPACING))
+            for t in range(n + 1):  # one point at a time: the first outside ends the check
+                _check_pose(scene, Pose(x0 + t / n * (x1 - x0), y0 + t / n * (y1 - y0)), where)
     for trial in plan_trials(config):
         if trial.displacement:
             start = trial.homing_start(Pose(*trial.waypoints[-1]))
@@ -574,7 +579,8 @@ def run_route_experiment(
     force: bool = False,
     show_progress: bool = True,
 ) -> TrialRunOutcome:
-    """Run every unfinished trial of ``config`` and write the routes table."""
+    """Run every unfinished trial of ``config`` and write the routes table; a trial running
+    longer than the config's ``job_timeout_s`` fails."""
     forget_databases()  # read as they are now: an edited database gives other keys
     check_routes(config, route_scene(config), config_path)
     run_dir = Path(config.output)
@@ -584,11 +590,14 @@ def run_route_experiment(
     if force:
         for job in plan:
             job.result_path(run_dir).unlink(missing_ok=True)
-    todo = [job for job in plan if read_json_record(job.result_path(run_dir), job.key) is None]
+    todo = [job for job in plan if job.record(run_dir) is None]
     n_jobs = jobs if jobs is not None else config.jobs
     preload = preload_for(config.methods)
-    outcomes = run_parallel(run_route_job, todo, run_dir, n_jobs, "routes", show_progress, preload)
-    records = [read_json_record(job.result_path(run_dir), job.key) for job in plan]
+    outcomes = run_parallel(
+        run_route_job, todo, run_dir, n_jobs, "routes", show_progress, preload,
+        config.job_timeout_s, len(plan) - len(todo),
+    )  # fmt: skip
+    records = [job.record(run_dir) for job in plan]
     table = route_table([r for r in records if r is not None], config.success_radius_m)
     table_path = run_dir / TABLE_PATH
     table_path.parent.mkdir(parents=True, exist_ok=True)
@@ -598,7 +607,8 @@ def run_route_experiment(
         if not frame.empty:
             write_text_atomic(run_dir / path, frame.to_csv(index=False))
     failures = tuple(outcome for outcome in outcomes if outcome.error)
-    return TrialRunOutcome(run_dir, table, table_path, len(todo), len(plan) - len(todo), failures)
+    computed = len(todo) - len(failures)
+    return TrialRunOutcome(run_dir, table, table_path, computed, len(plan) - len(todo), failures)
 
 
 def route_scene(config: RouteConfig) -> Scene:

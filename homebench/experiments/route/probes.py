@@ -239,7 +239,7 @@ def probe_tables(records: list[dict[str, Any]]) -> tuple[pd.DataFrame, pd.DataFr
     without its RIDF) and the catchment table per trial, method and distance."""
     probes, distances = [], []
     for record in records:
-        head = {"trial": record["trial"], "method": record["method"]}
+        head = {"trial": record["trial"], "method": record.get("method")}
         probes += [{**head, **_without_ridf(row)} for row in record.get("probes", [])]
         distances += [{**head, **entry} for entry in record.get("catchment", [])]
     return pd.DataFrame(probes), pd.DataFrame(distances)
