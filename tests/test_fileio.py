@@ -153,15 +153,15 @@ def test_a_result_record_larger_than_the_bound_is_not_read(tmp_path: Path, monke
     """A run folder may come from someone else: a record file beyond MAX_RECORD_BYTES is
     treated as corrupt (recomputed, or reported as such) without reading it into memory."""
     import homebench.fileio as fileio
-    from homebench.experiments.trials import read_trial
+    from homebench.experiments.trials import TrialRecord, read_trial
 
     path = tmp_path / "trials" / "t.json"
     path.parent.mkdir()
     path.write_text('{"key": "k", "summary": {}, "pad": "' + "x" * 2000 + '"}')
     assert fileio.read_json_record(path, "k") is not None
-    assert isinstance(read_trial(path, tmp_path, "t", "k"), dict)
+    assert isinstance(read_trial(path, tmp_path, "t", "k", TrialRecord, {}), dict)
     monkeypatch.setattr(fileio, "MAX_RECORD_BYTES", 1000)
     assert fileio.read_json_record(path, "k") is None
-    assert read_trial(path, tmp_path, "t", "k") == (
+    assert read_trial(path, tmp_path, "t", "k", TrialRecord, {}) == (
         "trials/t.json (trial t: corrupt, larger than 1000 bytes)"
     )
