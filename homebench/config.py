@@ -33,6 +33,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from homebench.bounds import MAX_AHC_BINS, MAX_BANDS, count_problem, workers_problem
+from homebench.claim_spec import ClaimEntry, RecordedClaim, claim_problem
 from homebench.data.bob.overrides import (
     BobOverrides,
     GridOverride,
@@ -303,6 +304,7 @@ class RunConfig(_Strict):
     unfold: UnfoldConfig = UnfoldConfig()
     table_format: Literal["csv", "parquet"] = "csv"
     checks: dict[str, Check] = Field(default_factory=dict)  # method label -> thresholds
+    claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 
     @field_validator("databases", mode="before")
     @classmethod
@@ -375,6 +377,9 @@ class RunConfig(_Strict):
             missing = [c for c in check.conditions or [] if c not in names]
             if missing:
                 raise ValueError(f"checks.{label}.conditions: {missing[0]!r} is not a condition")
+        problem = claim_problem(self.claims, labels, names)
+        if problem:
+            raise ValueError(problem)
         return self
 
     def _counts(self) -> dict[str, int]:
@@ -418,6 +423,7 @@ class ResolvedRunConfig(RunConfig):
     share of its memory, an inherited ``ulimit -v``)."""
 
     worker_memory_mb: int | None = Field(None, ge=1)
+    claims: list[RecordedClaim] = Field(default_factory=list)  # type: ignore[assignment]
 
 
 #: The kinds of experiment a config declares with ``kind:`` (grid without one).
