@@ -139,10 +139,11 @@ def _ahc_test(
 
 
 def _bootstrap_p(values: np.ndarray, null: float) -> float:
-    """Two-sided percentile-bootstrap p-value of ``null``: twice the smaller share of finite
-    resampled ``values`` on either side of it (at most 1)."""
+    """Two-sided percentile-bootstrap p-value of ``null``: twice the smaller count of finite
+    resampled ``values`` on either side of it, plus one, over their number plus one (never
+    0; at most 1)."""
     finite = values[np.isfinite(values)]
     if not len(finite):
         return math.nan
-    below, above = np.mean(finite <= null), np.mean(finite >= null)
-    return float(min(1.0, 2 * min(below, above)))
+    hits = min(np.sum(finite <= null), np.sum(finite >= null))
+    return float(min(1.0, 2 * (1 + hits) / (1 + len(finite))))
