@@ -182,3 +182,21 @@ def test_claims_are_recorded_before_the_jobs_and_a_later_one_reads_as_later(
     result = CliRunner().invoke(main, ["findings", str(tmp_path / "run")])
     assert result.exit_code == 0, result.output
     assert "after 4 job result(s)" in result.stdout
+
+
+def test_a_config_without_claims_resolves_as_before_claims_existed(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """A run folder recorded before claims existed (no 'claims' key) still belongs to its
+    config: re-running it must not need --update."""
+    from homebench.config import RunConfig
+    from homebench.evaluation.executors import Execution
+    from homebench.evaluation.isolation import Limits
+    from homebench.evaluation.provenance import resolve_config
+    from homebench.evaluation.run_folder import check_owner
+
+    config = RunConfig.model_validate(arena_config(tmp_path, arena_manifest))
+    resolved = resolve_config(config, Execution(), Limits(), [])
+    before = {key: value for key, value in resolved.items() if key != "claims"}
+    (tmp_path / "config.resolved.json").write_text(json.dumps(before))
+    check_owner(tmp_path, resolved, take_over=False)  # ConfigError: "claims: null there"

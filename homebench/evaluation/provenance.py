@@ -141,6 +141,8 @@ def resolve_config(
     )
     if claims is not None:
         resolved["claims"] = claims
+    if not resolved["claims"]:  # as recorded before configs had claims: old runs still match
+        del resolved["claims"]
     for entry in resolved["methods"]:
         defaults = registry.parameters(entry["method"])
         entry["params"] = {
