@@ -99,8 +99,7 @@ def test_roles_by_method_name_and_label(tmp_path: Path) -> None:
 def test_pooled_runs_rest_on_the_union_of_goals(tmp_path: Path) -> None:
     """Five goals per run: no sign-flip p below 2 / 2**5; pooled, ten goals go below it."""
     runs = [
-        _run(tmp_path / name, {"P": 5.0, "PN": 12.0, "W": 25.0}, world=name)
-        for name in ("a", "b")
+        _run(tmp_path / name, {"P": 5.0, "PN": 12.0, "W": 25.0}, world=name) for name in ("a", "b")
     ]
     alone = CliRunner().invoke(main, ["findings", str(runs[0])])
     row = next(r for r in _tables(alone.stdout)[0] if r[1].startswith("P errs less than W"))
@@ -200,3 +199,23 @@ def test_a_config_without_claims_resolves_as_before_claims_existed(
     before = {key: value for key, value in resolved.items() if key != "claims"}
     (tmp_path / "config.resolved.json").write_text(json.dumps(before))
     check_owner(tmp_path, resolved, take_over=False)  # ConfigError: "claims: null there"
+
+
+def test_the_readmes_claims_are_a_valid_config_section() -> None:
+    """The README's example (Uncertainty and findings) reads as a run config's claims."""
+    import yaml
+
+    from homebench.config import RunConfig
+
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    section = text.split("**Your own claims.**")[1]
+    block = section.split("```yaml\n")[1].split("```")[0]
+    methods = [{"method": "sift", "label": label} for label in ("P", "W")]
+    methods += [{"method": "min-warping"}, {"method": "warping"}]
+    config = RunConfig.model_validate(
+        {"output": "x", "databases": {"original": "synth-original", "day": "synth-day"},
+         "conditions": ["original-original", "original-day"], "goals": [[1, 1]],
+         "methods": methods, **yaml.safe_load(block)}
+    )  # fmt: skip
+    assert [c.metric for c in config.claims] == ["ae", "ahc"]
+    assert config.claims[1].band == (0.0, 1.2) and config.claims[1].margin == 0.05
