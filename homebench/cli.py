@@ -15,7 +15,7 @@ import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import click
 
@@ -726,7 +726,7 @@ def findings(
     run_dirs: tuple[Path, ...],
     alpha: float,
     roles: tuple[str, ...],
-    pool: str | None,
+    pool: Literal["style", "all"] | None,
     places: tuple[str, ...],
     out: Path | None,
 ) -> None:
@@ -742,14 +742,8 @@ def findings(
     )
     from homebench.report.tables import to_markdown, write_views
 
-    named_places = _named(places, "--place")
-    found = findings_of_runs(
-        run_dirs,
-        _named(roles, "--role"),
-        alpha,
-        pool,
-        named_places,  # type: ignore[arg-type]
-    )
+    chosen = _named(roles, "--role")
+    found = findings_of_runs(run_dirs, chosen, alpha, pool, _named(places, "--place"))
     for warning in found.warnings:
         _say("warning: ", warning)
     views = []

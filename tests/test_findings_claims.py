@@ -75,6 +75,9 @@ def test_no_testable_finding_exits_2_with_the_reasons(tmp_path: Path) -> None:
     _, untested = _tables(result.stdout)
     assert {row[2] for row in untested} >= {"no method labelled 'P', 'W'"}
     assert "none of the findings could be tested" in result.stderr
+    shown = " ".join(CliRunner().invoke(main, ["findings", "--help"]).stdout.split())
+    assert "P<W AE original-day: P, W under day" in shown  # from the findings' definitions
+    assert "day hits W harder: W, P under original, day" in shown
 
 
 def test_roles_by_method_name_and_label(tmp_path: Path) -> None:
@@ -219,3 +222,28 @@ def test_the_readmes_claims_are_a_valid_config_section() -> None:
     )  # fmt: skip
     assert [c.metric for c in config.claims] == ["ae", "ahc"]
     assert config.claims[1].band == (0.0, 1.2) and config.claims[1].margin == 0.05
+
+
+def test_pooling_by_style_and_what_the_options_refuse(tmp_path: Path) -> None:
+    """--pool style pools runs of one generated style; a run of recorded databases has none;
+    a --place naming no run, an unknown role: exit 2 naming the option."""
+    runs = []
+    for name in ("a", "b"):
+        run = _run(tmp_path / name, {"P": 5.0, "PN": 12.0, "W": 25.0}, world=name)
+        config = json.loads((run / "config.resolved.json").read_text())
+        config["databases"]["original"] = {"world": {"style": "lab", "seed": len(runs)}}
+        (run / "config.resolved.json").write_text(json.dumps(config))
+        runs.append(run)
+    pooled = CliRunner().invoke(main, ["findings", *map(str, runs), "--pool", "style"])
+    assert pooled.exit_code == 0, pooled.output
+    assert {(row[0], row[-3]) for row in _tables(pooled.stdout)[0]} == {("lab", "10")}
+    recorded = _run(tmp_path / "c", {"P": 5.0, "W": 25.0}, world="c")
+    refused = [
+        (["--pool", "style"], "--pool style: run c holds no generated world of one style"),
+        (["--place", "d=room"], "--place d=...: no such run (runs: a, b, c)"),
+        (["--role", "Q=P"], "--role Q: no such role"),
+        (["--role", "P"], "--role 'P': expected NAME=VALUE"),
+    ]
+    for options, message in refused:
+        result = CliRunner().invoke(main, ["findings", *map(str, [*runs, recorded]), *options])
+        assert result.exit_code == 2 and message in result.stderr, (options, result.output)

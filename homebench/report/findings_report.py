@@ -203,7 +203,9 @@ def sift_roles(given: Mapping[str, str], pairs: pd.DataFrame) -> SiftRoles:
                     f"{', '.join(sorted(conditions))})"
                 )
             chosen[CONDITION_ROLES[role]] = value
-        elif role != ROUTE_ROLE:
+        elif role == ROUTE_ROLE:
+            raise ConfigError(f"--role {role}: seed 000's role, for route runs (these: grid)")
+        else:
             raise ConfigError(f"--role {role}: no such role (roles: {', '.join(ROLES)})")
     return SiftRoles(**chosen)
 
@@ -326,6 +328,15 @@ def findings_of_runs(
         raise DataError("findings: give run folders of one kind (grid runs or route runs)")
     if kinds != {"route"}:
         return _grid_findings(run_dirs, roles, alpha, pool, places or {})
+    seed_001 = sorted(set(roles) - {ROUTE_ROLE})
+    if seed_001:
+        raise ConfigError(
+            f"--role {seed_001[0]}: a role of seed 001's grid findings; these are route runs"
+        )
+    if pool is not None or places:
+        raise ConfigError(
+            "--pool, --place: route runs pool by world style already (grid runs only)"
+        )
     klt = roles.get(ROUTE_ROLE, KLT_SECTOR)
     trials, warnings, others = _route_table(run_dirs, klt)
     if trials.empty:
