@@ -19,8 +19,9 @@ from collections.abc import Sequence
 from datetime import datetime
 from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
 
+from homebench.strict import StrictModel
 from homebench.suggest import did_you_mean
 
 #: The metrics a claim may name: mean AE (degrees; a pair without an estimate counts as the
@@ -31,10 +32,8 @@ ClaimMetric = Literal["ae", "ahc", "ahc90", "rr", "rotation_error"]
 LOWER_IS_BETTER = ("ae", "rotation_error")
 
 
-class ClaimEntry(BaseModel):
+class ClaimEntry(StrictModel):
     """One claim as the user writes it (see the module docstring)."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
     better: str
     than: str

@@ -161,6 +161,10 @@ def test_a_claim_naming_a_missing_label_is_a_config_error_before_any_job(
     claims[0] |= {"than": "warping-coarse", "condition": "arena-day"}
     result = run_config(tmp_path, arena_config(tmp_path, arena_manifest, claims=claims))
     assert result.exit_code == 2 and "claims.0.condition: 'arena-day'" in result.stderr
+    claims[0] = {"beter": "warping", "than": "warping-coarse", "metric": "ae", "condition": "x"}
+    result = run_config(tmp_path, arena_config(tmp_path, arena_manifest, claims=claims))
+    assert result.exit_code == 2 and "unknown key 'beter' (did you mean 'better'?)" in result.stderr
+    assert "claims[0]" in result.stderr and not (tmp_path / "run").exists()
 
 
 @pytest.mark.slow
