@@ -251,3 +251,19 @@ def test_pooling_by_style_and_what_the_options_refuse(tmp_path: Path) -> None:
     for options, message in refused:
         result = CliRunner().invoke(main, ["findings", *map(str, [*runs, recorded]), *options])
         assert result.exit_code == 2 and message in result.stderr, (options, result.output)
+
+
+def test_route_runs_name_seed_000s_method_by_role(tmp_path: Path) -> None:
+    from test_report_routes import write_route_run
+
+    write_route_run(tmp_path / "run")
+    run = str(tmp_path / "run")
+    by_name = CliRunner().invoke(main, ["findings", run, "--role", "KLT=klt-sector"])
+    assert by_name.exit_code == 0, by_name.output
+    header = next(line for line in by_name.stdout.splitlines() if line.startswith("| place"))
+    assert "trials" in [cell.strip() for cell in header.split("|")]  # the units: trials
+    absent = CliRunner().invoke(main, ["findings", run, "--role", "KLT=warping"])
+    assert absent.exit_code == 2
+    assert "no finished trial of a method labelled or named 'warping'" in absent.stdout
+    grid_role = CliRunner().invoke(main, ["findings", run, "--role", "P=sift"])
+    assert grid_role.exit_code == 2 and "--role P: a role of seed 001's grid" in grid_role.stderr
