@@ -10,6 +10,13 @@ style, or the whole run). The verdict at level ``alpha``:
 - **opposite**: below ``alpha`` and negative (the data say the reverse);
 - **not significant**: the data cannot tell at this level.
 
+A claim names the method labels and conditions it needs (:class:`Planned`); a place that
+lacks one, or whose tables give the claim no unit (no pair 3.45 m from its goal, say), lists it
+as :class:`Untestable` with the reason, and Holm counts only what was tested
+(:func:`assess_place`). The runs' own claims (:mod:`homebench.analysis.user_claims`) are
+planned claims too, tested against their margin (``Tested.null``) and corrected with the
+papers' in their place.
+
 A claim of *no* effect ("does not grow by more than ...") is an equivalence claim: it holds when
 the whole interval lies below its bound, is opposite when the whole interval lies above it,
 and is inconclusive otherwise (no p-value).

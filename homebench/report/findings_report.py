@@ -1,11 +1,14 @@
-"""``homebench findings``: the papers' findings tested on run folders, as a table.
+"""``homebench findings``: the papers' findings and the runs' own claims tested on run folders.
 
-Grid runs of seed 001's experiment (methods labelled P, PN, W; conditions original-original,
-original-arboreal, original-day, or other labels given) give its findings; route runs give seed
-000's. Several run folders of one kind are pooled; the place of a finding is the swept style
-(``styles:`` in the config), or the run's label (its folder's name, see
-:func:`~homebench.report.run_set.run_labels`) for a grid run that sweeps none, or the world
-style of a route run's config. Each run's worlds are its own units of replication.
+Grid runs give seed 001's findings, route runs seed 000's: every finding whose methods and
+conditions the runs have, named by role (:data:`ROLES`; by default the labels of
+``configs/sift_paper.yaml`` and ``klt-sector``; ``--role`` names a label, a method's name or a
+condition); the others are listed with the reason. A grid run's ``claims:`` are tested beside
+them in the places of the runs that state them (Holm over both). Several run folders of one
+kind are pooled; the place of a finding is the swept style (``styles:`` in the config), or the
+run's label (its folder's name, see :func:`~homebench.report.run_set.run_labels`) for a grid
+run that sweeps none, or a place by ``--pool`` or ``--place`` (:func:`run_places`), or the
+world style of a route run's config. Each run's worlds are its own units of replication.
 """
 
 from __future__ import annotations
