@@ -320,11 +320,15 @@ def findings_of_runs(
     """The findings of run folders, all grid runs or all route runs: every finding (and every
     claim of the runs' configs) whose methods and conditions they have, and the others with
     the reason. ``roles``: role name -> method label or name, or condition (:data:`ROLES`;
-    a :class:`SiftRoles` gives seed 001's all at once); ``pool`` and ``places`` (run label ->
+    a :class:`SiftRoles` gives those of seed 001 it changes); ``pool`` and ``places`` (run label ->
     place name) pool runs (:func:`run_places`)."""
-    if isinstance(roles, SiftRoles):
-        fields = {**METHOD_ROLES, **CONDITION_ROLES}
-        roles = {name: getattr(roles, attr) for name, attr in fields.items()}
+    if isinstance(roles, SiftRoles):  # the roles it changes, as --role would give them
+        fields = {**METHOD_ROLES, **CONDITION_ROLES}.items()
+        roles = {
+            name: getattr(roles, attr)
+            for name, attr in fields
+            if getattr(roles, attr) != getattr(PAPER_ROLES, attr)
+        }
     roles = dict(roles or {})
     kinds = {read_run_info(run_dir).kind for run_dir in run_dirs}
     if len(kinds) > 1:
