@@ -15,7 +15,7 @@ import signal
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import click
 
@@ -659,7 +659,37 @@ def leaderboard(
         click.echo(str(write_index(board, html_file)))
 
 
-@main.command()
+class _FindingsCommand(click.Command):
+    """The findings command, whose help ends with what each finding needs, generated from
+    the findings' own definitions when the help is shown."""
+
+    def format_epilog(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        from homebench.report.findings_report import ROLE_DEFAULTS, requirements
+
+        formatter.write_paragraph()
+        formatter.write_text("What each finding needs (roles; --role ROLE=VALUE names them):")
+        with formatter.indentation():
+            for line in requirements():
+                formatter.write_text(line)
+        formatter.write_paragraph()
+        defaults = ", ".join(f"{role}={value}" for role, value in ROLE_DEFAULTS.items())
+        formatter.write_text(f"Roles by default: {defaults}.")
+
+
+def _named(values: tuple[str, ...], option: str) -> dict[str, str]:
+    """``NAME=VALUE`` option values as a dict; ConfigError naming a malformed one."""
+    from homebench.errors import ConfigError
+
+    found = {}
+    for text in values:
+        name, sep, value = text.partition("=")
+        if not sep or not name.strip() or not value.strip():
+            raise ConfigError(f"{option} {text!r}: expected NAME=VALUE")
+        found[name.strip()] = value.strip()
+    return found
+
+
+@main.command(cls=_FindingsCommand)
 @click.argument("run_dirs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option(
     "--alpha",
@@ -668,46 +698,63 @@ def leaderboard(
     show_default=True,
     help="Significance level of the verdicts.",
 )
-@click.option("--p", "p", default="P", show_default=True, help="Label of seed 001's method P.")
-@click.option("--pn", default="PN", show_default=True, help="Label of P without elimination.")
-@click.option("--w", "w", default="W", show_default=True, help="Label of the warping baseline.")
 @click.option(
-    "--original",
-    default="original-original",
-    show_default=True,
-    help="Condition of seed 001's Fig. 9a / 10a.",
+    "--role",
+    "roles",
+    multiple=True,
+    metavar="ROLE=VALUE",
+    help="A finding's method by label or method name (P=sift, W=warping, PN=sift-pn, "
+    "KLT=klt-sector) or condition (original=a-a, arboreal=a-b, day=a-c); repeatable.",
 )
 @click.option(
-    "--arboreal", default="original-arboreal", show_default=True, help="Condition of Fig. 9b / 10b."
+    "--pool",
+    type=click.Choice(["style", "all"]),
+    help="Pool runs into places: by world style (a run's generated world's, or each swept "
+    "style), or all into one. Default: each swept style a place, each other run its own.",
 )
 @click.option(
-    "--day", default="original-day", show_default=True, help="Condition of Fig. 9c / 10c."
+    "--place",
+    "places",
+    multiple=True,
+    metavar="RUN=NAME",
+    help="Name the place of a run (its label: the folder's name); runs of one name are "
+    "pooled, goals of every run the units; repeatable.",
 )
 @click.option("--out", type=click.Path(path_type=Path),
               help="Folder for findings.csv, .md and .tex.")  # fmt: skip
 def findings(
     run_dirs: tuple[Path, ...],
     alpha: float,
-    p: str,
-    pn: str,
-    w: str,
-    original: str,
-    arboreal: str,
-    day: str,
+    roles: tuple[str, ...],
+    pool: Literal["style", "all"] | None,
+    places: tuple[str, ...],
     out: Path | None,
 ) -> None:
-    """Test the papers' findings on RUN_DIRS: seed 001's on grid runs, seed 000's on route
-    runs; each with its effect, 95 % interval, Holm-corrected p and verdict, per style."""
-    from homebench.analysis.findings import SiftRoles
-    from homebench.report.findings_report import findings_of_runs, findings_view
+    """Test the papers' findings and the runs' own claims on RUN_DIRS: seed 001's findings
+    on grid runs, seed 000's on route runs, and each run config's claims; each with its
+    effect, 95 % interval, Holm-corrected p, verdict and the goals it rests on, per place.
+    Findings the runs cannot test are listed with the reason; exit 2 when none could be."""
+    from homebench.errors import DataError
+    from homebench.report.findings_report import (
+        findings_of_runs,
+        findings_view,
+        untestable_view,
+    )
     from homebench.report.tables import to_markdown, write_views
 
-    roles = SiftRoles(p, pn, w, original, arboreal, day)
-    found = findings_of_runs(run_dirs, roles, alpha)
+    chosen = _named(roles, "--role")
+    found = findings_of_runs(run_dirs, chosen, alpha, pool, _named(places, "--place"))
     for warning in found.warnings:
         _say("warning: ", warning)
-    view = findings_view(found.table, alpha)
-    click.echo(to_markdown(view))
+    views = []
+    if not found.table.empty:
+        views.append(findings_view(found.table, alpha, found.units))
+        click.echo(to_markdown(views[0]))
+    if not found.untestable.empty:
+        views.append(untestable_view(found.untestable))
+        click.echo(to_markdown(views[-1]))
+    if found.table.empty:
+        raise DataError("findings: none of the findings could be tested on these runs (see above)")
     if out is not None:
-        for path in write_views([view], out):
+        for path in write_views(views, out):
             click.echo(str(path))

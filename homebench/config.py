@@ -30,9 +30,10 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from homebench.bounds import MAX_AHC_BINS, MAX_BANDS, count_problem, workers_problem
+from homebench.claim_spec import ClaimEntry, RecordedClaim, claim_problem
 from homebench.data.bob.overrides import (
     BobOverrides,
     GridOverride,
@@ -48,6 +49,7 @@ from homebench.methods import registry
 from homebench.methods.base import gives_direction
 from homebench.methods.param_types import parameter_problem
 from homebench.methods.visual_compass import CompassMode
+from homebench.strict import StrictModel
 from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
 
@@ -62,22 +64,8 @@ JobTimeout = Annotated[float, Field(gt=0)] | None
 DEFAULT_JOB_TIMEOUT_S = 3600.0
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _misspelt_keys(cls, data: Any) -> Any:
-        """An unknown key close to a known one is an error naming both ("did you mean"); other
-        unknown keys are left to pydantic, whose message gives the key's own line."""
-        if isinstance(data, dict):
-            for key in data:
-                hint = (
-                    did_you_mean(str(key), cls.model_fields) if key not in cls.model_fields else ""
-                )
-                if hint:
-                    raise ValueError(f"unknown key {key!r}{hint}")
-        return data
+#: Every config model's base (kept under its old name for this module's classes).
+_Strict = StrictModel
 
 
 #: The keys of a database entry that state a Brains on Board folder's conventions.
@@ -303,6 +291,7 @@ class RunConfig(_Strict):
     unfold: UnfoldConfig = UnfoldConfig()
     table_format: Literal["csv", "parquet"] = "csv"
     checks: dict[str, Check] = Field(default_factory=dict)  # method label -> thresholds
+    claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 
     @field_validator("databases", mode="before")
     @classmethod
@@ -375,6 +364,9 @@ class RunConfig(_Strict):
             missing = [c for c in check.conditions or [] if c not in names]
             if missing:
                 raise ValueError(f"checks.{label}.conditions: {missing[0]!r} is not a condition")
+        problem = claim_problem(self.claims, labels, names)
+        if problem:
+            raise ValueError(problem)
         return self
 
     def _counts(self) -> dict[str, int]:
@@ -418,6 +410,7 @@ class ResolvedRunConfig(RunConfig):
     share of its memory, an inherited ``ulimit -v``)."""
 
     worker_memory_mb: int | None = Field(None, ge=1)
+    claims: list[RecordedClaim] = Field(default_factory=list)  # type: ignore[assignment]
 
 
 #: The kinds of experiment a config declares with ``kind:`` (grid without one).

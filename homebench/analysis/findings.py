@@ -10,6 +10,13 @@ style, or the whole run). The verdict at level ``alpha``:
 - **opposite**: below ``alpha`` and negative (the data say the reverse);
 - **not significant**: the data cannot tell at this level.
 
+A claim names the method labels and conditions it needs (:class:`Planned`); a place that
+lacks one, or whose tables give the claim no unit (no pair 3.45 m from its goal, say), lists it
+as :class:`Untestable` with the reason, and Holm counts only what was tested
+(:func:`assess_place`). The runs' own claims (:mod:`homebench.analysis.user_claims`) are
+planned claims too, tested against their margin (``Tested.null``) and corrected with the
+papers' in their place.
+
 A claim of *no* effect ("does not grow by more than ...") is an equivalence claim: it holds when
 the whole interval lies below its bound, is opposite when the whole interval lies above it,
 and is inconclusive otherwise (no p-value).
@@ -116,33 +123,76 @@ PAPER_ROLES = SiftRoles()
 
 
 @dataclass(frozen=True)
-class _Tested:
-    """An effect before the correction: interval, p-value (NaN: equivalence claim) and, for
-    an equivalence claim, its bound."""
+class Tested:
+    """An effect before the correction: interval, p-value (NaN: equivalence claim), the
+    effect's value under the null hypothesis (``null``: the claim's margin) and, for an
+    equivalence claim, its bound."""
 
     claim: Claim
     effect: Interval
     p_value: float
     bound: float | None = None
+    null: float = 0.0
+
+
+#: A test of a claim on one place's pairs and return-ratio starts, at a level, with n_boot.
+ClaimTest = Callable[[pd.DataFrame, pd.DataFrame, float, int], Tested]
+
+
+@dataclass(frozen=True)
+class Planned:
+    """A claim before the data: the method ``labels`` and ``conditions`` it needs, how it is
+    tested (``test``) and why a place that has them may still give it no unit (``empty``)."""
+
+    claim: Claim
+    labels: tuple[str, ...]
+    conditions: tuple[str, ...]
+    test: ClaimTest
+    empty: str = "no pair the methods share"
+
+
+@dataclass(frozen=True)
+class Untestable:
+    """A claim that could not be tested in ``place``, and why (a missing method, condition, or
+    no unit)."""
+
+    place: str
+    key: str
+    reason: str
+
+
+@dataclass(frozen=True)
+class Assessment:
+    """What was ``found`` (tested, judged) and what was ``untestable``."""
+
+    found: list[Finding]
+    untestable: list[Untestable]
 
 
 # ---------------------------------------------------------------- effects
 
 
-def _effect(
-    claim: Claim, values: np.ndarray, labels: np.ndarray, level: float, n_boot: int
-) -> _Tested:
-    """The mean of per-unit ``values`` (n,) over clusters ``labels`` (n, k), tested."""
+def effect_of(
+    claim: Claim,
+    values: np.ndarray,
+    labels: np.ndarray,
+    level: float,
+    n_boot: int,
+    null: float = 0.0,
+) -> Tested:
+    """The mean of per-unit ``values`` (n,) over clusters ``labels`` (n, k), tested against
+    ``null`` (sign flips of the goal sums of ``values - null``)."""
     keep = np.isfinite(values)
     values, labels = values[keep], labels[keep]
     seed = derived_seed("finding", claim.key)
     resampler = GoalResampler(labels, n_boot, seed)
     interval = resampler.mean(values).interval(level)
-    p = sign_flip_test(resampler.goal_sums(values), seed=seed) if len(values) else math.nan
-    return _Tested(claim, interval, p)
+    shifted = resampler.goal_sums(values - null)
+    p = sign_flip_test(shifted, seed=seed) if len(values) else math.nan
+    return Tested(claim, interval, p, null=null)
 
 
-def _by_pair(pairs: pd.DataFrame, condition: str, method: str, column: str) -> pd.Series:
+def by_pair(pairs: pd.DataFrame, condition: str, method: str, column: str) -> pd.Series:
     """``column`` (float) per pair key of one condition and method; failed pairs left out."""
     rows = pairs[(pairs["condition"] == condition) & (pairs["method"] == method)]
     if "error" in rows.columns:
@@ -152,14 +202,14 @@ def _by_pair(pairs: pd.DataFrame, condition: str, method: str, column: str) -> p
     return pd.Series(values, index=pd.MultiIndex.from_frame(keys), name=f"{method}.{column}")
 
 
-def _ae_by_pair(pairs: pd.DataFrame, condition: str, method: str, missing: Missing) -> pd.Series:
+def ae_by_pair(pairs: pd.DataFrame, condition: str, method: str, missing: Missing) -> pd.Series:
     """AE in degrees per pair key of one condition and method, a missing estimate as 90 deg
     or NaN (left out by the effect) as ``missing`` says."""
-    ae = _by_pair(pairs, condition, method, "ae")
+    ae = by_pair(pairs, condition, method, "ae")
     return pd.Series(np.degrees(with_missing(ae.to_numpy(), missing)), index=ae.index)
 
 
-def _aligned(series: list[pd.Series]) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+def aligned(series: list[pd.Series]) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
     """The series on their common keys: values, goal labels (n, 3) and the keys (n, 5)."""
     frame = pd.concat(series, axis=1, join="inner").sort_index()
     keys = np.array(frame.index.tolist(), dtype=np.int64).reshape(-1, len(PAIR_KEY))
@@ -173,43 +223,68 @@ def _success_by_goal(starts: pd.DataFrame, condition: str, method: str) -> pd.Se
     return success.groupby([rows[c] for c in PAIR_KEY[:3]]).mean().rename(method)
 
 
+def rr_difference(
+    starts: pd.DataFrame, condition: str, a: str, b: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per goal that both methods walked under ``condition``: RR of ``a`` minus RR of ``b``
+    (n_goals,) and the goals' labels (n_goals, 3)."""
+    frame = pd.concat(
+        [_success_by_goal(starts, condition, a), _success_by_goal(starts, condition, b)],
+        axis=1,
+        join="inner",
+    )
+    labels = np.array(frame.index.tolist(), dtype=np.int64).reshape(-1, 3)
+    return (frame.iloc[:, 0] - frame.iloc[:, 1]).to_numpy(), labels
+
+
+def ae_difference(
+    pairs: pd.DataFrame, condition: str, a: str, b: str, missing: Missing
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per pair both methods homed under ``condition``: AE of ``b`` minus AE of ``a``
+    (degrees, (n,); positive where ``a`` errs less), the goal labels (n, 3) and the pairs'
+    distances (metres, (n,))."""
+    series = [ae_by_pair(pairs, condition, m, missing) for m in (a, b)]
+    distance = by_pair(pairs, condition, a, "distance_m")
+    (ae_a, ae_b, d), labels, _ = aligned([*series, distance])
+    return ae_b - ae_a, labels, d
+
+
 # ---------------------------------------------------------------- seed 001
 
 
-def _sift_claims(
-    pairs: pd.DataFrame, starts: pd.DataFrame, roles: SiftRoles, level: float, n_boot: int
-) -> list[_Tested]:
-    tested: list[_Tested] = []
+def sift_plan(roles: SiftRoles = PAPER_ROLES) -> list[Planned]:
+    """Seed 001's findings with the methods and conditions each needs, in ``roles``' labels."""
+    planned: list[Planned] = []
 
     def ae_claim(
-        key: str, statement: str, source: str, unit: str,
-        effect: Callable[[Missing], tuple[np.ndarray, np.ndarray]],
+        key: str, statement: str, source: str, unit: str, needs: tuple[tuple[str, ...], ...],
+        effect: Callable[[pd.DataFrame, Missing], tuple[np.ndarray, np.ndarray]],
+        empty: str = "no pair the methods share",
     ) -> None:  # fmt: skip
-        """The claim tested both ways (:data:`AE_WAYS`): ``effect(missing)`` gives the values
-        and their cluster labels."""
+        """The claim tested both ways (:data:`AE_WAYS`): ``effect(pairs, missing)`` gives
+        the values and their cluster labels."""
         for missing, how, suffix in AE_WAYS:
             claim = Claim(key + suffix, statement, source, unit, how)
-            tested.append(_effect(claim, *effect(missing), level, n_boot))
+
+            def test(pairs: pd.DataFrame, _: pd.DataFrame, level: float, n_boot: int,
+                     claim: Claim = claim, missing: Missing = missing) -> Tested:  # fmt: skip
+                return effect_of(claim, *effect(pairs, missing), level, n_boot)
+
+            planned.append(Planned(claim, *needs, test, empty))
 
     def ae_less(a: str, b: str, condition: str, key: str, statement: str, source: str) -> None:
-        def effect(missing: Missing) -> tuple[np.ndarray, np.ndarray]:
-            (ae_a, ae_b), labels, _ = _aligned(
-                [_ae_by_pair(pairs, condition, m, missing) for m in (a, b)]
-            )
-            return ae_b - ae_a, labels
+        def effect(pairs: pd.DataFrame, missing: Missing) -> tuple[np.ndarray, np.ndarray]:
+            return ae_difference(pairs, condition, a, b, missing)[:2]
 
-        ae_claim(key, statement, source, "deg of AE", effect)
+        ae_claim(key, statement, source, "deg of AE", ((a, b), (condition,)), effect)
 
     def rr_more(a: str, b: str, condition: str, key: str, statement: str, source: str) -> None:
-        frame = pd.concat(
-            [_success_by_goal(starts, condition, a), _success_by_goal(starts, condition, b)],
-            axis=1,
-            join="inner",
-        )
-        labels = np.array(frame.index.tolist(), dtype=np.int64).reshape(-1, 3)
         claim = Claim(key, statement, source, "RR")
-        values = (frame.iloc[:, 0] - frame.iloc[:, 1]).to_numpy()
-        tested.append(_effect(claim, values, labels, level, n_boot))
+
+        def test(_: pd.DataFrame, starts: pd.DataFrame, level: float, n_boot: int) -> Tested:
+            return effect_of(claim, *rr_difference(starts, condition, a, b), level, n_boot)
+
+        planned.append(Planned(claim, (a, b), (condition,), test, "no goal both walked"))
 
     p, pn, w = roles.p, roles.pn, roles.w
     for condition, figure in zip(roles.conditions, "abc", strict=True):
@@ -234,9 +309,9 @@ def _sift_claims(
             f"seed 001, Fig. 10{figure}",
         )  # fmt: skip
 
-    def day_effect(missing: Missing) -> tuple[np.ndarray, np.ndarray]:
-        (w0, w1, p0, p1), labels, _ = _aligned(
-            [_ae_by_pair(pairs, c, m, missing) for m in (w, p) for c in (roles.original, roles.day)]
+    def day_effect(pairs: pd.DataFrame, missing: Missing) -> tuple[np.ndarray, np.ndarray]:
+        (w0, w1, p0, p1), labels, _ = aligned(
+            [ae_by_pair(pairs, c, m, missing) for m in (w, p) for c in (roles.original, roles.day)]
         )
         return (w1 - w0) - (p1 - p0), labels
 
@@ -246,31 +321,30 @@ def _sift_claims(
         "(warping drops dramatically, P only slightly)",
         "seed 001, Fig. 9a,c and 10a,c",
         "deg of AE",
+        ((w, p), (roles.original, roles.day)),
         day_effect,
     )
 
-    def far_effect(missing: Missing) -> tuple[np.ndarray, np.ndarray]:
-        far = []
-        for condition in roles.conditions:
-            series = [_ae_by_pair(pairs, condition, m, missing) for m in (p, w)]
-            distance = _by_pair(pairs, condition, p, "distance_m")
-            (ae_p, ae_w, d), labels, _ = _aligned([*series, distance])
-            far.append((ae_p - ae_w, labels, d >= FAR_RANGE_M))
-        values = np.concatenate([v[m] for v, _, m in far])
-        return values, np.concatenate([lab[m] for _, lab, m in far])
+    def far_effect(pairs: pd.DataFrame, missing: Missing) -> tuple[np.ndarray, np.ndarray]:
+        far = [ae_difference(pairs, c, w, p, missing) for c in roles.conditions]
+        values = np.concatenate([v[d >= FAR_RANGE_M] for v, _, d in far])
+        return values, np.concatenate([lab[d >= FAR_RANGE_M] for _, lab, d in far])
 
     ae_claim(
         "far range: W<P",
         f"at 360-390 cm {w} errs less than {p} (few matches there, many wrong)",
         "seed 001, Fig. 9 and section 4.4",
         "deg of AE",
+        ((p, w), roles.conditions),
         far_effect,
+        f"no pair {FAR_RANGE_M:g} m or more from its goal",
     )
     for method in (p, w):
         for condition in roles.conditions:
 
-            def below_90(missing: Missing, c: str = condition, m: str = method) -> tuple:
-                (ae,), labels, _ = _aligned([_ae_by_pair(pairs, c, m, missing)])
+            def below_90(pairs: pd.DataFrame, missing: Missing, c: str = condition,
+                         m: str = method) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+                (ae,), labels, _ = aligned([ae_by_pair(pairs, c, m, missing)])
                 return 90.0 - ae, labels
 
             ae_claim(
@@ -278,9 +352,11 @@ def _sift_claims(
                 f"{method}'s AHC stays above 0 under {condition} (it leads towards the goal)",
                 "seed 001, section 4.4",
                 "deg below 90",
+                ((method,), (condition,)),
                 below_90,
+                "no pair with a result",
             )
-    return tested
+    return planned
 
 
 # ---------------------------------------------------------------- seed 000
@@ -306,14 +382,14 @@ def _slope_replicates(x: np.ndarray, y: np.ndarray, resampler: GoalResampler) ->
     return Replicates(estimate, slope(weights), len(x), resampler.n_goals)
 
 
-def _route_claims(routes: pd.DataFrame, level: float, n_boot: int) -> list[_Tested]:
+def _route_claims(routes: pd.DataFrame, level: float, n_boot: int) -> list[Tested]:
     trial = pd.factorize(routes["trial"])[0]
     labels = np.column_stack([routes["world"].to_numpy(dtype=np.int64), trial])
     length = routes["length_m"].to_numpy(dtype=float)
     visual = 100.0 * routes["visual_error_m"].to_numpy(dtype=float)
     odometry = 100.0 * routes["odometry_error_m"].to_numpy(dtype=float)
     tested = [
-        _effect(
+        effect_of(
             Claim(
                 "visual<odometry",
                 "visual homing ends nearer home than odometry-based homing",
@@ -334,7 +410,7 @@ def _route_claims(routes: pd.DataFrame, level: float, n_boot: int) -> list[_Test
         "seed 000, section 3",
         "cm per m",
     )
-    tested.append(_Tested(claim, grows, _slope_p(length, odometry, labels)))
+    tested.append(Tested(claim, grows, _slope_p(length, odometry, labels)))
     flat = _slope_replicates(length, visual, resampler).interval(level)
     claim = Claim(
         "visual flat",
@@ -343,7 +419,7 @@ def _route_claims(routes: pd.DataFrame, level: float, n_boot: int) -> list[_Test
         "seed 000, abstract and section 3",
         "cm per m",
     )
-    tested.append(_Tested(claim, flat, math.nan, bound=FLAT_SLOPE_CM_PER_M))
+    tested.append(Tested(claim, flat, math.nan, bound=FLAT_SLOPE_CM_PER_M))
     return tested
 
 
@@ -359,7 +435,7 @@ def _slope_p(x: np.ndarray, y: np.ndarray, labels: np.ndarray) -> float:
 # ---------------------------------------------------------------- verdicts
 
 
-def _judge(tested: list[_Tested], place: str, alpha: float) -> list[Finding]:
+def _judge(tested: list[Tested], place: str, alpha: float) -> list[Finding]:
     adjusted = holm([t.p_value for t in tested])
     found = []
     for t, p_holm in zip(tested, adjusted, strict=True):
@@ -372,9 +448,9 @@ def _judge(tested: list[_Tested], place: str, alpha: float) -> list[Finding]:
                 verdict = "opposite"
             else:
                 verdict = "inconclusive"
-        elif p_holm < alpha and effect.estimate > 0:
+        elif p_holm < alpha and effect.estimate > t.null:
             verdict = "holds"
-        elif p_holm < alpha and effect.estimate < 0:
+        elif p_holm < alpha and effect.estimate < t.null:
             verdict = "opposite"
         else:
             verdict = "not significant"
@@ -394,19 +470,62 @@ def with_places(frame: pd.DataFrame) -> pd.DataFrame:
     return frame
 
 
-def _by_place(
-    frames: list[pd.DataFrame],
-    test: Callable[..., list[_Tested]],
-    alpha: float,
-    *args: object,
-) -> list[Finding]:
-    """``test`` per place (:func:`with_places`), Holm within each."""
-    frames = [with_places(f) for f in frames]
-    found = []
-    for place in sorted(frames[0]["place"].unique()):
-        subset = [f[f["place"] == place] for f in frames]
-        found += _judge(test(*subset, *args), str(place), alpha)
-    return found
+def missing_needs(planned: Planned, labels: set[str], conditions: set[str]) -> str:
+    """Why a place with method ``labels`` and ``conditions`` cannot test ``planned`` ("" when
+    it has what the claim needs)."""
+    absent = [label for label in planned.labels if label not in labels]
+    if absent:
+        return f"no method labelled {', '.join(map(repr, absent))}"
+    absent = [c for c in planned.conditions if c not in conditions]
+    return f"no condition {', '.join(map(repr, absent))}" if absent else ""
+
+
+def assess_place(
+    pairs: pd.DataFrame,
+    starts: pd.DataFrame,
+    planned: list[Planned],
+    place: str,
+    alpha: float = ALPHA,
+    level: float = LEVEL,
+    n_boot: int = N_BOOT,
+) -> Assessment:
+    """Every ``planned`` claim that one place's ``pairs`` and ``starts`` can test, tested and
+    judged (Holm over all of them); the others listed with the reason."""
+    labels, conditions = set(pairs["method"]), set(pairs["condition"])
+    tested, untestable = [], []
+    for item in planned:
+        reason = missing_needs(item, labels, conditions)
+        found = None if reason else item.test(pairs, starts, level, n_boot)
+        if found is not None and found.effect.n_pairs == 0:
+            reason = item.empty
+        if reason:
+            untestable.append(Untestable(place, item.claim.key, reason))
+        else:
+            tested.append(found)
+    return Assessment(_judge(tested, place, alpha), untestable)
+
+
+def assess_grid(
+    pairs: pd.DataFrame,
+    starts: pd.DataFrame,
+    planned: Callable[[str], list[Planned]],
+    alpha: float = ALPHA,
+    level: float = LEVEL,
+    n_boot: int = N_BOOT,
+) -> Assessment:
+    """:func:`assess_place` in every place of the tables (:func:`with_places`); ``planned``
+    gives each place's claims."""
+    pairs, starts = with_places(pairs), with_places(starts)
+    found, untestable = [], []
+    for place in sorted(pairs["place"].unique()):
+        name = str(place)
+        done = assess_place(
+            pairs[pairs["place"] == place], starts[starts["place"] == place],
+            planned(name), name, alpha, level, n_boot,
+        )  # fmt: skip
+        found += done.found
+        untestable += done.untestable
+    return Assessment(found, untestable)
 
 
 def sift_findings(
@@ -417,8 +536,10 @@ def sift_findings(
     level: float = LEVEL,
     n_boot: int = N_BOOT,
 ) -> list[Finding]:
-    """Seed 001's findings on a grid run's ``pairs`` and ``rr_starts`` tables, per style."""
-    return _by_place([pairs, rr_starts], _sift_claims, alpha, roles, level, n_boot)
+    """Seed 001's findings that a grid run's ``pairs`` and ``rr_starts`` tables can test,
+    per style (:func:`assess_grid`)."""
+    plan = sift_plan(roles)
+    return assess_grid(pairs, rr_starts, lambda _: plan, alpha, level, n_boot).found
 
 
 def route_findings(
@@ -426,11 +547,18 @@ def route_findings(
 ) -> list[Finding]:
     """Seed 000's findings on route runs' tables (one row per trial; ``seed`` and ``style``
     columns when several worlds are pooled), per style."""
-    return _by_place([routes], _route_claims, alpha, level, n_boot)
+    routes = with_places(routes)
+    found = []
+    for place in sorted(routes["place"].unique()):
+        subset = routes[routes["place"] == place]
+        found += _judge(_route_claims(subset, level, n_boot), str(place), alpha)
+    return found
 
 
 def findings_table(found: list[Finding]) -> pd.DataFrame:
     """One row per finding: place, claim, effect with interval, p-values, verdict."""
+    columns = ["place", "finding", "statement", "source", "effect", "lo", "hi", "unit",
+               "missing", "n", "clusters", "p", "p_holm", "verdict"]  # fmt: skip
     return pd.DataFrame(
         [
             {
@@ -450,5 +578,6 @@ def findings_table(found: list[Finding]) -> pd.DataFrame:
                 "verdict": f.verdict,
             }
             for f in found
-        ]
+        ],
+        columns=columns,
     )

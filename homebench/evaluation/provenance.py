@@ -126,13 +126,23 @@ def write_run_metadata(
     write_text_atomic(run_dir / "environment.json", json.dumps(env, indent=2, default=str) + "\n")
 
 
-def resolve_config(config: RunConfig, execution: Execution, limits: Limits) -> dict[str, Any]:
-    """The config as run: the execution values used (workers, job ``limits``) and every method
-    parameter's value."""
+def resolve_config(
+    config: RunConfig,
+    execution: Execution,
+    limits: Limits,
+    claims: list[dict[str, Any]] | None = None,
+) -> dict[str, Any]:
+    """The config as run: the execution values used (workers, job ``limits``), every method
+    parameter's value and the ``claims`` as recorded (with when each was stated:
+    :func:`~homebench.evaluation.claims_record.stamped_claims`; default: as configured)."""
     resolved = config.model_dump(mode="json")
     resolved.update(
         jobs=execution.workers, job_timeout_s=limits.timeout_s, worker_memory_mb=limits.memory_mb
     )
+    if claims is not None:
+        resolved["claims"] = claims
+    if not resolved["claims"]:  # as recorded before configs had claims: old runs still match
+        del resolved["claims"]
     for entry in resolved["methods"]:
         defaults = registry.parameters(entry["method"])
         entry["params"] = {

@@ -26,6 +26,7 @@ from tqdm import tqdm
 
 from homebench.config import RunConfig, SweptWorld
 from homebench.errors import Interrupted, WriteError
+from homebench.evaluation.claims_record import stamped_claims
 from homebench.evaluation.data_checks import check_source, database_warnings, pattern_notes
 from homebench.evaluation.executors import (
     PRELOAD,
@@ -183,9 +184,10 @@ def run_plan(
         checks = {source.identity: check_source(source) for source in sources.values()}
         plan = make_plan(config, sources, config_path)
         with claim_run_folder(run_dir):  # limits are execution settings: no part of it
-            resolved = resolve_config(config, execution, Limits())
+            claims = stamped_claims(config.claims, run_dir)  # stated before any job runs
+            resolved = resolve_config(config, execution, Limits(), claims)
             check_owner(run_dir, resolved, force or update)
-            resolved = resolve_config(config, execution, executor.limits)
+            resolved = resolve_config(config, execution, executor.limits, claims)
             extra = run_sections(config, execution, force, plan, sources)
             extra["overrides"]["config"] = list(overrides)
             extra["data_checks"] = {

@@ -1,63 +1,95 @@
-"""``homebench findings``: the papers' findings tested on run folders, as a table.
+"""``homebench findings``: the papers' findings and the runs' own claims tested on run folders.
 
-Grid runs of seed 001's experiment (methods labelled P, PN, W; conditions original-original,
-original-arboreal, original-day, or other labels given) give its findings; route runs give seed
-000's. Several run folders of one kind are pooled; the place of a finding is the swept style
-(``styles:`` in the config), or the run's label (its folder's name, see
-:func:`~homebench.report.run_set.run_labels`) for a grid run that sweeps none, or the world
-style of a route run's config. Each run's worlds are its own units of replication.
+Grid runs give seed 001's findings, route runs seed 000's: every finding whose methods and
+conditions the runs have, named by role (:data:`ROLES`; by default the labels of
+``configs/sift_paper.yaml`` and ``klt-sector``; ``--role`` names a label, a method's name or a
+condition); the others are listed with the reason. A grid run's ``claims:`` are tested beside
+them in the places of the runs that state them (Holm over both). Several run folders of one
+kind are pooled; the place of a finding is the swept style (``styles:`` in the config), or the
+run's label (its folder's name, see :func:`~homebench.report.run_set.run_labels`) for a grid
+run that sweeps none, or a place by ``--pool`` or ``--place`` (:func:`run_places`), or the
+world style of a route run's config. Each run's worlds are its own units of replication.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 import pandas as pd
 
 from homebench.analysis.findings import (
+    AE_WAYS,
     ALPHA,
     PAPER_ROLES,
+    Planned,
     SiftRoles,
+    Untestable,
+    assess_grid,
     findings_table,
     route_findings,
-    sift_findings,
+    sift_plan,
 )
 from homebench.analysis.tables import world_codes
-from homebench.errors import DataError
+from homebench.analysis.user_claims import claim_plan
+from homebench.claim_spec import ClaimEntry, RecordedClaim
+from homebench.errors import ConfigError, DataError
 from homebench.experiments.route.config import KLT_SECTOR
 from homebench.report.route_report import load_route_run
-from homebench.report.run_data import grid_run, read_run_info
+from homebench.report.run_data import RunData, grid_run, read_run_info
 from homebench.report.run_set import missing_results, run_labels
 from homebench.report.tables import FIXED0, FIXED2, FIXED3, MISSING_TEXT, TableView, make_view
+
+#: Seed 001's roles: a role name (``--role NAME=VALUE``) -> the field of
+#: :class:`~homebench.analysis.findings.SiftRoles` it sets; methods first, then conditions.
+METHOD_ROLES = {"P": "p", "PN": "pn", "W": "w"}
+CONDITION_ROLES = {"original": "original", "arboreal": "arboreal", "day": "day"}
+#: Seed 000's role: the method whose route trials its findings are about.
+ROUTE_ROLE = "KLT"
+ROLES = (*METHOD_ROLES, *CONDITION_ROLES, ROUTE_ROLE)
+#: Each role's value when ``--role`` names none: the labels of ``configs/sift_paper.yaml``
+#: and seed 000's method.
+ROLE_DEFAULTS = {
+    **{
+        name: getattr(PAPER_ROLES, attr)
+        for name, attr in {**METHOD_ROLES, **CONDITION_ROLES}.items()
+    },
+    ROUTE_ROLE: KLT_SECTOR,
+}
+#: How ``--pool`` groups runs into places: by world style, or all runs into one.
+Pool = Literal["style", "all"]
 
 
 @dataclass(frozen=True)
 class Findings:
     """The findings ``table`` of run folders
-    (:func:`~homebench.analysis.findings.findings_table`) and ``warnings``: one line per job
-    or trial of theirs without a result (the findings rest on the others)."""
+    (:func:`~homebench.analysis.findings.findings_table`), ``warnings`` (one line per job or
+    trial of theirs without a result: the findings rest on the others) and ``untestable``:
+    the claims that could not be tested, with the reason (columns place, finding, reason)."""
 
     table: pd.DataFrame
     warnings: list[str]
+    untestable: pd.DataFrame = field(default_factory=pd.DataFrame)
+    units: str = "goals"
 
 
-def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame, list[str]]:
+def _grid_tables(
+    runs: Sequence[RunData], labels: Sequence[str], places: Sequence[str | None]
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The pairs and return-ratio starts of grid runs, each row with its ``world`` (a run's
-    swept world: runs never share one) and ``place`` (the swept style; for a run that sweeps
-    none, the run's label), and the runs' missing jobs (:func:`missing_results`). DataError
-    for a run without results, or for runs that hold the same pairs of the same images in
-    one place (a goal pooled twice would count as two)."""
+    swept world: runs never share one) and ``place`` (``places``' name for the run; None: the
+    swept style, or for a run that sweeps none the run's label). DataError for a run without
+    results, or for runs that hold the same pairs of the same images in one place (a goal
+    pooled twice would count as two)."""
     pairs, starts = [], []
-    labels = run_labels(run_dirs)
-    runs = [grid_run(read_run_info(run_dir)) for run_dir in run_dirs]
-    for k, (run_dir, label, run) in enumerate(zip(run_dirs, labels, runs, strict=True)):
+    for k, (run, label, place) in enumerate(zip(runs, labels, places, strict=True)):
         tables = run.tables
         if tables.pairs.empty:
-            raise DataError(f"{run_dir}: the run has no results")
-        pairs.append(_placed(tables.pairs, k, label))
-        starts.append(_placed(tables.rr_starts, k, label))
+            raise DataError(f"{run.run_dir}: the run has no results")
+        pairs.append(_placed(tables.pairs, k, label, place))
+        starts.append(_placed(tables.rr_starts, k, label, place))
     both = pd.concat([*pairs, *starts], ignore_index=True)["world"]
     codes = dict(zip(both, pd.factorize(both, sort=True)[0], strict=True))
     pairs_table, starts_table = (
@@ -65,17 +97,17 @@ def _grid_tables(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, pd.DataFrame, 
         for frames in (pairs, starts)
     )
     _refuse_repeated_pairs(pairs_table)
-    return pairs_table, starts_table, missing_results(runs, labels)
+    return pairs_table, starts_table
 
 
-def _placed(frame: pd.DataFrame, run: int, label: str) -> pd.DataFrame:
+def _placed(frame: pd.DataFrame, run: int, label: str, place: str | None) -> pd.DataFrame:
     """``frame`` of run number ``run`` with its ``run`` label, ``world`` key (text) and
-    ``place``."""
+    ``place`` (``place``, or the swept style, or the run's label)."""
     style = frame["style"].astype("object")
     return frame.assign(
         run=label,
         world=[f"{run}/{code}" for code in world_codes(frame)],
-        place=style.where(style.notna(), label),
+        place=place if place is not None else style.where(style.notna(), label),
     )
 
 
@@ -96,10 +128,172 @@ def _refuse_repeated_pairs(pairs: pd.DataFrame) -> None:
     )
 
 
-def _route_table(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, list[str]]:
-    """The klt-sector trials of route runs (seed 000's findings are klt-sector's: other
-    methods of a run are left out) and one line per trial without a result; DataError when no
-    run holds one."""
+def _run_style(run: RunData) -> str | None:
+    """The world style of a run that sweeps none: its generated databases' one style (None
+    for a run of recorded databases, or of several styles)."""
+    styles = {ref.world.style for ref in run.settings.databases.values() if ref.world is not None}
+    absent = any(ref.world is None for ref in run.settings.databases.values())
+    return styles.pop() if len(styles) == 1 and not absent else None
+
+
+def run_places(
+    runs: Sequence[RunData],
+    labels: Sequence[str],
+    pool: Pool | None = None,
+    named: Mapping[str, str] | None = None,
+) -> list[str | None]:
+    """The place of each run's rows: ``named[label]`` where the user named it, else by
+    ``pool`` ("all": one place; "style": a run's world style, its swept styles staying
+    apart), else None (each swept style a place, a run that sweeps none its own). ConfigError
+    for a name given to no run, or for ``pool="style"`` over a run whose style is unknown."""
+    named = dict(named or {})
+    unknown = sorted(set(named) - set(labels))
+    if unknown:
+        raise ConfigError(f"--place {unknown[0]}=...: no such run (runs: {', '.join(labels)})")
+    places: list[str | None] = []
+    for run, label in zip(runs, labels, strict=True):
+        if label in named:
+            places.append(named[label])
+        elif pool == "all":
+            places.append("all")
+        elif pool == "style" and not run.settings.styles:
+            style = _run_style(run)
+            if style is None:
+                raise ConfigError(
+                    f"--pool style: run {label} holds no generated world of one style; give "
+                    f"it a place with --place {label}=NAME"
+                )
+            places.append(style)
+        else:
+            places.append(None)
+    return places
+
+
+def _method_label(value: str, methods: pd.DataFrame, role: str) -> str | None:
+    """The method label ``value`` names: itself when a label, else the one label whose entry
+    runs the method of that name; None when neither. ConfigError when several labels run it."""
+    if value in set(methods["method"]):
+        return value
+    named = sorted(set(methods.loc[methods["method_name"] == value, "method"]))
+    if len(named) > 1:
+        raise ConfigError(
+            f"--role {role}={value}: {len(named)} method entries run {value} "
+            f"({', '.join(named)}); give one label"
+        )
+    return named[0] if named else None
+
+
+def sift_roles(given: Mapping[str, str], pairs: pd.DataFrame) -> SiftRoles:
+    """Seed 001's roles from ``--role`` values (``given``: role name -> a method label or
+    name, or a condition) over the runs' ``pairs``; a role not given keeps the paper's label.
+    ConfigError for an unknown role, or a given value the runs do not have."""
+    methods = pairs[["method", "method_name"]].drop_duplicates()
+    conditions = set(pairs["condition"])
+    chosen = {}
+    for role, value in given.items():
+        if role in METHOD_ROLES:
+            label = _method_label(value, methods, role)
+            if label is None:
+                raise ConfigError(
+                    f"--role {role}={value}: no method labelled or named {value!r} in the runs "
+                    f"(labels: {', '.join(sorted(methods['method']))})"
+                )
+            chosen[METHOD_ROLES[role]] = label
+        elif role in CONDITION_ROLES:
+            if value not in conditions:
+                raise ConfigError(
+                    f"--role {role}={value}: no condition {value!r} in the runs (conditions: "
+                    f"{', '.join(sorted(conditions))})"
+                )
+            chosen[CONDITION_ROLES[role]] = value
+        elif role == ROUTE_ROLE:
+            raise ConfigError(f"--role {role}: seed 000's role, for route runs (these: grid)")
+        else:
+            raise ConfigError(f"--role {role}: no such role (roles: {', '.join(ROLES)})")
+    return SiftRoles(**chosen)
+
+
+@dataclass(frozen=True)
+class _RunClaim:
+    """A claim of the runs: the earliest stated of equal claims, the metrics settings of the
+    first run that states it, and the labels of every run that does."""
+
+    claim: ClaimEntry
+    run: RunData
+    runs: set[str]
+
+
+def _claims(runs: Sequence[RunData], labels: Sequence[str]) -> list[_RunClaim]:
+    """The runs' claims, each once."""
+    found: dict[str, _RunClaim] = {}
+    for run, label in zip(runs, labels, strict=True):
+        for claim in run.settings.claims:
+            key = str(claim.content())
+            earlier = found.setdefault(key, _RunClaim(claim, run, set()))
+            earlier.runs.add(label)
+            if _stated(claim) < _stated(earlier.claim):
+                found[key] = _RunClaim(claim, earlier.run, earlier.runs)
+    return list(found.values())
+
+
+def _stated(claim: ClaimEntry) -> str:
+    stated = claim.stated if isinstance(claim, RecordedClaim) else None
+    return stated.isoformat() if stated is not None else "~"  # unrecorded: last
+
+
+def _grid_findings(
+    run_dirs: Sequence[Path],
+    roles: Mapping[str, str],
+    alpha: float,
+    pool: Pool | None,
+    named: Mapping[str, str],
+) -> Findings:
+    """:func:`findings_of_runs` of grid runs."""
+    labels = run_labels(run_dirs)
+    runs = [grid_run(read_run_info(run_dir)) for run_dir in run_dirs]
+    places = run_places(runs, labels, pool, named)
+    pairs, starts = _grid_tables(runs, labels, places)
+    seed_plan = sift_plan(sift_roles(roles, pairs))
+    claims = _claims(runs, labels)
+    runs_of = pairs.groupby("place")["run"].agg(set).to_dict()
+
+    def planned(place: str) -> list[Planned]:
+        """Seed 001's findings and the claims of the place's runs."""
+        here = runs_of.get(place, set())
+        mine = [claim_plan(c.claim, c.run.settings.metrics) for c in claims if c.runs & here]
+        return [*seed_plan, *mine]
+
+    done = assess_grid(pairs, starts, planned, alpha)
+    return Findings(
+        findings_table(done.found), missing_results(runs, labels), _untestable(done.untestable)
+    )
+
+
+def _untestable(items: Sequence[Untestable]) -> pd.DataFrame:
+    """One row per claim not tested (an AE finding's two ways once): place, finding, reason."""
+    rows = {(u.place, _base_key(u.key)): u.reason for u in items}
+    return pd.DataFrame(
+        [
+            {"place": place, "finding": key, "reason": reason}
+            for (place, key), reason in rows.items()
+        ],
+        columns=["place", "finding", "reason"],
+    )
+
+
+def _base_key(key: str) -> str:
+    """A finding's key without the suffix of the way it counts a missing estimate."""
+    for _, _, suffix in AE_WAYS:
+        key = key.removesuffix(suffix) if suffix else key
+    return key
+
+
+def _route_table(
+    run_dirs: Sequence[Path], klt: str = KLT_SECTOR
+) -> tuple[pd.DataFrame, list[str], list[str]]:
+    """The trials of route runs by the method ``klt`` (a label, or a method's name: seed
+    000's findings are klt-sector's; other methods of a run are left out), one line per trial
+    without a result, and the labels of the methods left out."""
     frames, others, warnings = [], set(), []
     for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
         run = load_route_run(read_run_info(run_dir))
@@ -107,48 +301,75 @@ def _route_table(run_dirs: Sequence[Path]) -> tuple[pd.DataFrame, list[str]]:
         world = run.config.world
         frame = pd.DataFrame([trial.summary for trial in run.trials])
         points = run.config.method_points()
-        klt = [entry for entry, name, _ in points if name == KLT_SECTOR]
-        others.update(entry for entry, name, _ in points if name != KLT_SECTOR)
-        frame = frame[frame["method"].isin(klt)] if "method" in frame else frame
+        chosen = [entry for entry, name, _ in points if klt in (entry, name)]
+        others.update(entry for entry, _, _ in points if entry not in chosen)
+        frame = frame[frame["method"].isin(chosen)] if "method" in frame else frame
         frame.insert(0, "world", k)  # a route run drives in one world
         frame.insert(0, "place", world.style if run.config.database is None else label)
         frames.append(frame)
-    table = pd.concat(frames, ignore_index=True)
-    if table.empty:
-        raise DataError(
-            f"findings: seed 000's route findings are about {KLT_SECTOR}, and no finished "
-            f"trial of the runs used it (methods: {', '.join(sorted(others))}); compare the "
-            "methods of a route run in its report's paired tables"
-        )
-    return table, warnings
+    return pd.concat(frames, ignore_index=True), warnings, sorted(others)
 
 
 def findings_of_runs(
-    run_dirs: Sequence[Path], roles: SiftRoles = PAPER_ROLES, alpha: float = ALPHA
+    run_dirs: Sequence[Path],
+    roles: Mapping[str, str] | SiftRoles | None = None,
+    alpha: float = ALPHA,
+    pool: Pool | None = None,
+    places: Mapping[str, str] | None = None,
 ) -> Findings:
-    """The findings of run folders, all grid runs or all route runs."""
+    """The findings of run folders, all grid runs or all route runs: every finding (and every
+    claim of the runs' configs) whose methods and conditions they have, and the others with
+    the reason. ``roles``: role name -> method label or name, or condition (:data:`ROLES`;
+    a :class:`SiftRoles` gives those of seed 001 it changes); ``pool`` and ``places`` (run label ->
+    place name) pool runs (:func:`run_places`)."""
+    if isinstance(roles, SiftRoles):  # the roles it changes, as --role would give them
+        fields = {**METHOD_ROLES, **CONDITION_ROLES}.items()
+        roles = {
+            name: getattr(roles, attr)
+            for name, attr in fields
+            if getattr(roles, attr) != getattr(PAPER_ROLES, attr)
+        }
+    roles = dict(roles or {})
     kinds = {read_run_info(run_dir).kind for run_dir in run_dirs}
     if len(kinds) > 1:
         raise DataError("findings: give run folders of one kind (grid runs or route runs)")
-    if kinds == {"route"}:
-        trials, warnings = _route_table(run_dirs)
-        return Findings(findings_table(route_findings(trials, alpha)), warnings)
-    pairs, starts, warnings = _grid_tables(run_dirs)
-    labels = set(pairs["method"])
-    absent = [label for label in (roles.p, roles.pn, roles.w) if label not in labels]
-    if absent:
-        raise DataError(
-            f"findings: no method labelled {absent[0]!r} in the runs (labels: "
-            f"{', '.join(sorted(labels))}); name seed 001's roles with --p, --pn, --w"
+    if kinds != {"route"}:
+        return _grid_findings(run_dirs, roles, alpha, pool, places or {})
+    seed_001 = sorted(set(roles) - {ROUTE_ROLE})
+    if seed_001:
+        raise ConfigError(
+            f"--role {seed_001[0]}: a role of seed 001's grid findings; these are route runs"
         )
-    conditions = set(pairs["condition"])
-    absent = [c for c in roles.conditions if c not in conditions]
-    if absent:
-        raise DataError(
-            f"findings: no condition {absent[0]!r} in the runs (conditions: "
-            f"{', '.join(sorted(conditions))}); name them with --original, --arboreal, --day"
+    if pool is not None or places:
+        raise ConfigError(
+            "--pool, --place: route runs pool by world style already (grid runs only)"
         )
-    return Findings(findings_table(sift_findings(pairs, starts, roles, alpha)), warnings)
+    klt = roles.get(ROUTE_ROLE, KLT_SECTOR)
+    trials, warnings, others = _route_table(run_dirs, klt)
+    if trials.empty:
+        reason = (
+            f"no finished trial of a method labelled or named {klt!r} (methods: "
+            f"{', '.join(others)}; --role {ROUTE_ROLE}=LABEL)"
+        )
+        untestable = pd.DataFrame([{"place": "all", "finding": "seed 000", "reason": reason}])
+        return Findings(findings_table([]), warnings, untestable, units="trials")
+    found = findings_table(route_findings(trials, alpha))
+    return Findings(found, warnings, _untestable([]), units="trials")
+
+
+def requirements() -> list[str]:
+    """What each finding needs, one line per finding (an AE finding's two ways once), in
+    role names (:data:`ROLES`), from the findings' own definitions (:func:`sift_plan`)."""
+    paper = {getattr(PAPER_ROLES, attr): name for name, attr in METHOD_ROLES.items()}
+    paper |= {getattr(PAPER_ROLES, attr): name for name, attr in CONDITION_ROLES.items()}
+    lines = {}
+    for item in sift_plan(PAPER_ROLES):
+        methods = ", ".join(paper[label] for label in item.labels)
+        conditions = ", ".join(paper[c] for c in item.conditions)
+        key = _base_key(item.claim.key)
+        lines.setdefault(key, f"{key}: {methods} under {conditions}")
+    route = f"seed 000's route findings: {ROUTE_ROLE} (route runs)"
+    return [*lines.values(), route]
 
 
 #: The findings view's note on the ``missing`` column.
@@ -161,12 +382,25 @@ MISSING_NOTE = (
 )
 
 
-def findings_view(table: pd.DataFrame, alpha: float = ALPHA) -> TableView:
+#: The findings view's note on the claims of the runs' configs.
+CLAIMS_NOTE = (
+    "claims: the runs' own (claims: in a run's config), tested beside the papers' findings and "
+    "Holm-corrected with them; an AE or AHC claim counts a pair without an estimate as the "
+    "run's AHC does (metrics.ahc.missing), AHC90 as 90 deg. stated: when the run first recorded "
+    "the claim, and whether job results existed then."
+)
+CLAIM_SOURCE = "claim, stated "
+
+
+def findings_view(table: pd.DataFrame, alpha: float = ALPHA, units: str = "goals") -> TableView:
     """The findings table for printing: place, finding, how a pair without an estimate counts
-    (when any finding is about the AE), effect with its 95 % interval, unit, clusters,
-    Holm-corrected p and verdict."""
+    (when any finding is about the AE), effect with its 95 % interval, unit, the number of
+    ``units`` (goals, or route trials) it rests on, Holm-corrected p, verdict and, when a run
+    states claims, when each was stated."""
     missing = table["missing"].replace("", MISSING_TEXT)
     about_ae = bool((missing != MISSING_TEXT).any())
+    is_claim = table["source"].str.startswith(CLAIM_SOURCE)
+    stated = table["source"].str.removeprefix(CLAIM_SOURCE).where(is_claim, "paper")
     frame = pd.DataFrame(
         {
             "place": table["place"],
@@ -178,15 +412,28 @@ def findings_view(table: pd.DataFrame, alpha: float = ALPHA) -> TableView:
                 for lo, hi in zip(table["lo"], table["hi"], strict=True)
             ],
             "unit": table["unit"],
-            "clusters": table["clusters"],
+            units: table["clusters"],
             "p (Holm)": table["p_holm"],
             "verdict": table["verdict"],
+            **({"stated": stated} if is_claim.any() else {}),
         }
     )
-    title = (
-        f"Findings of the papers (goal-level tests, Holm-corrected within each place, "
-        f"alpha = {alpha:g})"
-    )
-    digits = {"effect": FIXED2, "clusters": FIXED0, "p (Holm)": FIXED3}
-    notes = (MISSING_NOTE,) if about_ae else ()
+    what = "the papers' findings and the runs' claims" if is_claim.any() else "the papers' findings"
+    title = f"Tests of {what} (goal-level, Holm-corrected within each place, alpha = {alpha:g})"
+    digits = {"effect": FIXED2, units: FIXED0, "p (Holm)": FIXED3}
+    notes = ((MISSING_NOTE,) if about_ae else ()) + ((CLAIMS_NOTE,) if is_claim.any() else ())
     return make_view("findings", title, frame, digits, notes=notes)
+
+
+#: The note under the list of what could not be tested.
+ROLES_NOTE = (
+    "Name a finding's methods and conditions with --role ROLE=VALUE (a method's label or its "
+    "name, or a condition), e.g. --role P=sift --role original=orig-orig; "
+    "`homebench findings --help` lists what each finding needs."
+)
+
+
+def untestable_view(table: pd.DataFrame) -> TableView:
+    """What could not be tested, and why: place, finding, reason."""
+    title = "Not tested (the runs lack what the finding needs)"
+    return make_view("not_tested", title, table, {}, notes=(ROLES_NOTE,))
