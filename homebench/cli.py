@@ -351,8 +351,12 @@ def _run_experiment(
 
     config = load(config_file, overrides)
     outcome = run_kind(config, config_file, jobs=jobs, force=force, show_progress=not no_progress)
+    for note in outcome.notes:
+        _say("note: ", note)
     if not outcome.table.empty:
-        click.echo(outcome.table.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        from homebench.report.consoles import experiment_console
+
+        click.echo(experiment_console(kind, outcome.table, config))
     failed = f", {len(outcome.failures)} failed" if outcome.failures else ""
     click.echo(
         f"{outcome.computed} trial(s) computed, {outcome.reused} reused{failed}; "
