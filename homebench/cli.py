@@ -191,19 +191,7 @@ def data_verify(database: str, path: Path | None) -> None:
     report = verify(opened.database, find_manifest(database)[0])
     for warning in report.warnings:
         _say("warning: ", warning)
-    tolerated = len(report.within_tolerance)
-    exact = len(report.checked) - tolerated
-    click.echo(
-        f"{opened.label}: {report.n_images} images OK in {report.root} ({exact} sha256 "
-        f"identical, {len(report.unchecked)} without a known sum"
-        + (
-            f", {tolerated} differing in bytes but matching their content fingerprint: made on "
-            "a processor whose floating point rounds differently"
-            if tolerated
-            else ""
-        )
-        + ")"
-    )
+    click.echo(report.line(opened.label))
 
 
 @data.command("show")
