@@ -148,9 +148,13 @@ def data_generate(
     jobs: int,
     no_progress: bool,
 ) -> None:
-    """Generate DATABASE (a generated set's name or manifest) and print its folder."""
+    """Generate DATABASE (a generated set's name or manifest); say what it made (world, grid,
+    images, folder) and how long it took."""
+    from functools import partial
+
     from homebench.data.bob import write_bob
     from homebench.data.catalog import ensure_generated, generate_variant
+    from homebench.data.made import made_line, timed
     from homebench.data.progress import progress_bars
     from homebench.errors import ConfigError
 
@@ -158,15 +162,17 @@ def data_generate(
     if bob and out is None:
         raise ConfigError("--format bob writes a new folder: give it with --out DIR")
 
-    def made(db: Any, target: Path | None) -> None:
-        click.echo(str(write_bob(db, target) if bob else db.root))
+    def made(generate: Any, target: Path | None) -> None:
+        done = timed(generate)
+        click.echo(made_line(done, write_bob(done.database, target) if bob else None))
 
     with progress_bars(not no_progress):
         if not variants:
-            made(ensure_generated(database, None if bob else out, jobs), out)
+            made(partial(ensure_generated, database, None if bob else out, jobs), out)
         for variant in variants:
             target = out / variant if out is not None and len(variants) > 1 else out
-            made(generate_variant(database, variant, None if bob else target, jobs), target)
+            folder = None if bob else target
+            made(partial(generate_variant, database, variant, folder, jobs), target)
 
 
 @data.command("verify")
