@@ -619,8 +619,8 @@ def odometry_notes(drift: DriftModel) -> tuple[str, ...]:
         return ()
     return (
         "odometry is perfect here (the config gives no drift: section): the odometry baseline "
-        "knows the true motion and ends home (odometry_error_m 0, but for a passive "
-        "displacement); give drift: for odometry that errs",
+        "knows the robot's true motion, so its error is 0 but for a passive displacement; give "
+        "drift: for odometry that errs",
     )
 
 
