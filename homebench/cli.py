@@ -148,9 +148,13 @@ def data_generate(
     jobs: int,
     no_progress: bool,
 ) -> None:
-    """Generate DATABASE (a generated set's name or manifest) and print its folder."""
+    """Generate DATABASE (a generated set's name or manifest); say what it made (world, grid,
+    images, folder) and how long it took."""
+    from functools import partial
+
     from homebench.data.bob import write_bob
     from homebench.data.catalog import ensure_generated, generate_variant
+    from homebench.data.made import made_line, timed
     from homebench.data.progress import progress_bars
     from homebench.errors import ConfigError
 
@@ -158,15 +162,17 @@ def data_generate(
     if bob and out is None:
         raise ConfigError("--format bob writes a new folder: give it with --out DIR")
 
-    def made(db: Any, target: Path | None) -> None:
-        click.echo(str(write_bob(db, target) if bob else db.root))
+    def made(generate: Any, target: Path | None) -> None:
+        done = timed(generate)
+        click.echo(made_line(done, write_bob(done.database, target) if bob else None))
 
     with progress_bars(not no_progress):
         if not variants:
-            made(ensure_generated(database, None if bob else out, jobs), out)
+            made(partial(ensure_generated, database, None if bob else out, jobs), out)
         for variant in variants:
             target = out / variant if out is not None and len(variants) > 1 else out
-            made(generate_variant(database, variant, None if bob else target, jobs), target)
+            folder = None if bob else target
+            made(partial(generate_variant, database, variant, folder, jobs), target)
 
 
 @data.command("verify")
@@ -191,19 +197,7 @@ def data_verify(database: str, path: Path | None) -> None:
     report = verify(opened.database, find_manifest(database)[0])
     for warning in report.warnings:
         _say("warning: ", warning)
-    tolerated = len(report.within_tolerance)
-    exact = len(report.checked) - tolerated
-    click.echo(
-        f"{opened.label}: {report.n_images} images OK in {report.root} ({exact} sha256 "
-        f"identical, {len(report.unchecked)} without a known sum"
-        + (
-            f", {tolerated} differing in bytes but matching their content fingerprint: made on "
-            "a processor whose floating point rounds differently"
-            if tolerated
-            else ""
-        )
-        + ")"
-    )
+    click.echo(report.line(opened.label))
 
 
 @data.command("show")
@@ -351,8 +345,12 @@ def _run_experiment(
 
     config = load(config_file, overrides)
     outcome = run_kind(config, config_file, jobs=jobs, force=force, show_progress=not no_progress)
+    for note in outcome.notes:
+        _say("note: ", note)
     if not outcome.table.empty:
-        click.echo(outcome.table.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        from homebench.report.consoles import experiment_console
+
+        click.echo(experiment_console(kind, outcome.table, config))
     failed = f", {len(outcome.failures)} failed" if outcome.failures else ""
     click.echo(
         f"{outcome.computed} trial(s) computed, {outcome.reused} reused{failed}; "

@@ -107,7 +107,7 @@ def test_data_generate_a_manifest_and_a_variant_then_verify(tmp_path: Path) -> N
     manifest.write_text(manifest_for_spec(spec, "tiny-original").to_yaml())
     code, out, err = _invoke("data", "generate", str(manifest), "--out", str(tmp_path / "a"))
     assert code == 0, err
-    assert Path(out.strip()) == tmp_path / "a"
+    assert out.strip().endswith(f"; 8 images (raw 96 x 72, unfolded 90 x 24) in {tmp_path / 'a'}")
     code, out, err = _invoke(
         "data", "generate", str(manifest), "--variant", "day", "--out", str(tmp_path / "day")
     )

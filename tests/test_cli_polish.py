@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 import subprocess
 import sys
 import textwrap
@@ -127,11 +128,33 @@ def test_generation_shows_a_bar_over_positions_on_a_terminal(
     assert "generate synth" in shown and "12/12" in shown and "position" in shown
 
 
-def test_no_generation_bar_when_hidden_or_not_a_terminal(
+def test_no_generation_progress_when_hidden(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     assert _generate_with_stderr(tmp_path / "a", monkeypatch, _Terminal(), bars=False) == ""
-    assert _generate_with_stderr(tmp_path / "b", monkeypatch, io.StringIO(), bars=True) == ""
+    assert _generate_with_stderr(tmp_path / "b", monkeypatch, io.StringIO(), bars=False) == ""
+
+
+#: A progress line of a log: what, percent, done of total, seconds so far.
+LOG_LINE = re.compile(r"generate (\S+): (\d+) % \((\d+) of (\d+) positions, \d+ s\)")
+
+
+def _log_percents(text: str, total: int) -> list[int]:
+    """The percents of ``text``'s lines, each a progress line of ``total`` positions."""
+    found = [LOG_LINE.fullmatch(line) for line in text.splitlines()]
+    assert all(found) and found, text
+    assert {int(m[4]) for m in found if m} == {total}
+    return [int(m[2]) for m in found if m]
+
+
+def test_generation_in_a_log_says_a_line_per_tenth(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Not a terminal (a log file, a pipe): no bar redrawn, a line per 10 % instead (12
+    positions one by one: 8 % a step, one line at the first step into each tenth)."""
+    percents = _log_percents(_generate_with_stderr(tmp_path, monkeypatch, io.StringIO(), True), 12)
+    assert percents == sorted(set(percents)) and percents[-1] == 100
+    assert len(percents) == 10 and {p // 10 for p in percents} == set(range(1, 11))
 
 
 def test_verifying_a_large_database_shows_bars_over_its_images(
@@ -170,15 +193,44 @@ def test_run_passes_no_progress_to_the_generation_it_triggers(
     assert seen == [shown]
 
 
-def test_data_generate_has_no_progress(tmp_path: Path) -> None:
+def _tiny_manifest(tmp_path: Path) -> Path:
     manifest = tmp_path / "tiny.yaml"
     manifest.write_text(generate_module.manifest_for_spec(small_spec(), "tiny").to_yaml())
+    return manifest
+
+
+#: What `data generate` says it made, and how long it took.
+MADE = re.compile(
+    r"tiny: generated in (\d+\.\d) s: world posters, variant original, seed 0; grid 3 x 4, "
+    r"0\.30 m apart; 24 images \(raw 64 x 48, unfolded 36 x 10\) in (\S+)"
+)
+
+
+def test_data_generate_says_what_it_made_and_has_no_progress(tmp_path: Path) -> None:
+    manifest, folder = _tiny_manifest(tmp_path), tmp_path / "set"
     code, out, err = _invoke(
-        "data", "generate", str(manifest), "--out", str(tmp_path / "set"), "-j", "1",
-        "--no-progress",
+        "data", "generate", str(manifest), "--out", str(folder), "-j", "1", "--no-progress"
     )  # fmt: skip
     assert code == 0, err
-    assert out == f"{tmp_path / 'set'}\n" and err == ""
+    made = MADE.fullmatch(out.strip())
+    assert made and made[2] == str(folder) and err == "", out
+    code, out, err = _invoke("data", "generate", str(manifest), "--out", str(folder))
+    assert code == 0 and err == "", err
+    assert out.startswith("tiny: already generated: world posters") and str(folder) in out
+
+
+def test_data_generate_in_a_log_prints_progress_lines_and_what_it_made(tmp_path: Path) -> None:
+    """A real process, stderr a pipe as in a batch job's log (about 3 s)."""
+    manifest, folder = _tiny_manifest(tmp_path), tmp_path / "set"
+    done = subprocess.run(
+        [sys.executable, "-m", "homebench", "data", "generate", str(manifest), "--out",
+         str(folder), "-j", "1"],
+        capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert _log_percents(done.stderr, 12)[-1] == 100
+    made = MADE.fullmatch(done.stdout.strip())
+    assert made and made[2] == str(folder), done.stdout
 
 
 # --------------------------------------------------------------------------- methods | head

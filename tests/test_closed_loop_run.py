@@ -13,6 +13,7 @@ import yaml
 from click.testing import CliRunner
 
 from homebench.cli import main
+from homebench.report.tables import CONSOLE_WIDTH
 
 TINY = {
     "kind": "closed-loop",
@@ -59,6 +60,17 @@ def test_run_writes_trials_tables_and_the_report(runs: tuple[Path, str, Path]) -
     assert truth["success"] == 1.0 and truth["catchment_m2"] == pytest.approx(12 * 0.16)
     paired = pd.read_csv(one / "tables" / "paired.csv")
     assert len(paired) == 3 and (paired["starts"] == 12).all()
+
+
+def test_the_console_summary_is_compact(runs: tuple[Path, str, Path]) -> None:
+    """As narrow as the grid headline: no raw None or nan, and the summary table's columns
+    stay in tables/summary.csv (the console shows those a reader needs first)."""
+    one, out, _ = runs
+    summary = [line for line in out.splitlines() if str(one) not in line]
+    assert summary and max(len(line) for line in summary) <= CONSOLE_WIDTH, out
+    assert not {"None", "nan", "NaN"} & set(out.split())
+    assert "style posters" in out and "catchment [m^2]" in out and "collisions" not in out
+    assert "collisions" in pd.read_csv(one / "tables" / "summary.csv").columns
 
 
 def test_second_run_computes_nothing(runs: tuple[Path, str, Path], tmp_path: Path) -> None:

@@ -6,6 +6,7 @@ import json
 import math
 from pathlib import Path
 
+import pandas as pd
 import pytest
 from click.testing import CliRunner
 from test_report_runs import FakeMethod, write_fake_run
@@ -56,8 +57,8 @@ def test_a_label_with_other_parameters_in_another_run_gets_one_row_per_run(
     merged = leaderboard([a, b]).view.frame
     assert list(merged["method"]) == ["warping"] and list(merged.columns) == [
         "method",
-        "a-a",
-        "b-b",
+        "a: a-a",
+        "b: b-b",
     ]
     config = json.loads((b / "config.resolved.json").read_text())
     config["methods"][0]["params"] = {"ratio": 0.7}
@@ -106,17 +107,43 @@ def test_columns_are_keyed_by_world_and_the_best_is_marked_within_a_column(
         tmp_path / "large", [FakeMethod("sift", 5.0), FakeMethod("klt", 8.0)], world="large"
     )
     frame = leaderboard([small, large]).view.frame
-    assert list(frame.columns) == ["method", "a-a @ db-a-small", "a-a @ db-a-large"]
+    small_aa, large_aa = "small: a-a @ db-a-small", "large: a-a @ db-a-large"
+    assert list(frame.columns) == ["method", small_aa, large_aa]
     cells = frame.set_index("method")
-    assert cells.loc["warping", "a-a @ db-a-small"].endswith(" *")
-    assert cells.loc["sift", "a-a @ db-a-large"].endswith(" *")
-    assert not cells.loc["klt", "a-a @ db-a-large"].endswith(" *")
-    assert cells.loc["warping", "a-a @ db-a-large"] == "--"
+    assert cells.loc["warping", small_aa].endswith(" *")
+    assert cells.loc["sift", large_aa].endswith(" *")
+    assert not cells.loc["klt", large_aa].endswith(" *")
+    assert cells.loc["warping", large_aa] == "--"
     # runs over the same databases share their columns, named by condition alone
     again = write_fake_run(tmp_path / "again", [FakeMethod("min", 1.0)], world="large")
     frame = leaderboard([large, again]).view.frame
     assert list(frame.columns) == ["method", "a-a"]
     assert frame.set_index("method").loc["min", "a-a"].endswith(" *")
+
+
+def test_a_column_not_in_every_run_names_the_runs_that_hold_it(tmp_path: Path) -> None:
+    """Runs of other worlds: 'original-day | original-original | ant-ant' said nothing of
+    where each column came from. A column in every run keeps its condition's name."""
+    quick = write_fake_run(tmp_path / "quick", [FakeMethod("warping", 20.0)],
+                           conditions=("a-a", "a-b"), world="small")  # fmt: skip
+    again = write_fake_run(tmp_path / "again", [FakeMethod("sift", 8.0)], conditions=("a-a",),
+                           world="small")  # fmt: skip
+    ant = write_fake_run(tmp_path / "ant", [FakeMethod("warping", 10.0)], conditions=("c-c",),
+                         world="ant")  # fmt: skip
+    board = leaderboard([quick, again, ant]).view
+    assert list(board.frame.columns) == ["method", "quick, again: a-a", "quick: a-b", "ant: c-c"]
+    shared = leaderboard([quick, again]).view
+    assert list(shared.frame.columns) == ["method", "a-a", "quick: a-b"]
+    assert "a column named by its condition alone is in every run" in " ".join(shared.notes)
+    assert not leaderboard([quick]).view.notes and "quick: " not in " ".join(
+        leaderboard([quick]).view.frame.columns
+    )
+    out = tmp_path / "board.csv"
+    args = ["leaderboard", str(quick), str(ant), "--out", str(out)]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    assert out.read_text().splitlines()[0] == "method,quick: a-a,quick: a-b,ant: c-c"
+    assert "| quick: a-a " in result.stdout
 
 
 def test_a_method_without_home_directions_is_never_ranked(tmp_path: Path) -> None:
@@ -150,6 +177,12 @@ def abstaining(tmp_path: Path) -> tuple[Path, Path]:
     return first, second
 
 
+def _cells(runs: tuple[Path, Path], metric: str) -> pd.DataFrame:
+    """The board's cells by method and condition (a-a: the first run's alone)."""
+    frame = leaderboard(runs, metric=metric).view.frame.set_index("method")
+    return frame.rename(columns={"first: a-a": "a-a"})
+
+
 def test_an_abstaining_method_shows_its_ahc90_and_share_and_each_column_marks_its_best(
     abstaining,
 ) -> None:
@@ -159,7 +192,7 @@ def test_an_abstaining_method_shows_its_ahc90_and_share_and_each_column_marks_it
         "some pairs, then AHC (no estimate = 90 deg) / no estimate [%] (*: best AHC in its "
         "column)"
     )
-    cells = board.frame.set_index("method")
+    cells = board.frame.set_index("method").rename(columns={"first: a-a": "a-a"})
     # the paper's AHC ranks "holes" first in a-a, "klt" in a-b: one mark per column
     assert cells.loc["holes", "a-a"] == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] * / {_ae90(5)} / 15.8"
     assert cells.loc["holes", "a-b"] == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] / {_ae90(5)} / 15.8"
@@ -169,12 +202,12 @@ def test_an_abstaining_method_shows_its_ahc90_and_share_and_each_column_marks_it
     for column in CONDITIONS:
         assert sum(cell.split(" / ")[0].endswith(" *") for cell in cells[column]) == 1
     # ranked on the AHC with a missing estimate as 90 deg, "steady" beats "holes" in a-a
-    cells = leaderboard(abstaining, metric="ahc_missing90").view.frame.set_index("method")
+    cells = _cells(abstaining, "ahc_missing90")
     assert cells.loc["steady", "a-a"] == f"{_ahc(8)} [{_ahc(8)}, {_ahc(8)}] *"
     assert cells.loc["holes", "a-a"] == f"{_ae90(5)} [{_ae90(5)}, {_ae90(5)}] / {_ahc(5)} / 15.8"
-    cells = leaderboard(abstaining, metric="mean_ae_deg").view.frame.set_index("method")
+    cells = _cells(abstaining, "mean_ae_deg")
     assert cells.loc["holes", "a-a"] == "5.00 [5.00, 5.00] * / 15.8"
-    cells = leaderboard(abstaining, metric="no_estimate_share").view.frame.set_index("method")
+    cells = _cells(abstaining, "no_estimate_share")
     assert cells.loc["steady", "a-a"] == "0.0 [0.0, 0.0] *"
     assert cells.loc["holes", "a-a"] == "15.8 [15.8, 15.8]"
 
@@ -195,7 +228,7 @@ def test_the_title_names_the_runs_ahc_definition_and_two_definitions_do_not_rank
     assert "then AHC (mean cos; no estimate = 90 deg) / no estimate [%]" in board.title
     # the mean of cos(AE): the 3 missing of 19 pairs add nothing
     mean_cos90 = f"{math.cos(math.radians(5)) * 16 / 19:.3f}"
-    holes = board.frame.set_index("method").loc["holes", "a-a"]
+    holes = board.frame.set_index("method").loc["holes", "first: a-a"]
     assert holes == f"{_ahc(5)} [{_ahc(5)}, {_ahc(5)}] * / {mean_cos90} / 15.8"
     _define_ahc(abstaining[1], "cos_mean_ae")
     for metric in ("ahc", "ahc_missing90"):

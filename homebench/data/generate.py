@@ -290,7 +290,7 @@ def _build(
     truths: list[dict[str, Any]] = [{} for _ in staged]
     total, done = sum(len(batch) for _, batch in tasks), 0
     names = ", ".join(generation.name for generation, _ in staged)
-    with bar(total, f"generate {names}", "position") as shown, warnings.catch_warnings():
+    with bar(total, f"generate {names}", "position", log=True) as shown, warnings.catch_warnings():
         # loky replaces a worker whose memory grew (a world's textures: ~250 MB) and says so
         warnings.filterwarnings("ignore", "A worker stopped while some jobs", UserWarning)
         results = Parallel(n_jobs=n_jobs, return_as="generator")(

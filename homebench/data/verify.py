@@ -39,9 +39,37 @@ class VerifyReport:
     warnings: tuple[str, ...]
     within_tolerance: tuple[str, ...] = ()
 
+    generated: bool = False
+
     @property
     def n_images(self) -> int:
         return len(self.checked) + len(self.unchecked)
+
+    def line(self, label: str) -> str:
+        """What ``homebench data verify`` says of a database ``label`` that passed: how many
+        files are identical, have no known sum, or (a generated set rendered on a processor
+        that rounds otherwise, worded as the expected thing it is) are equal in content."""
+        tolerated = len(self.within_tolerance)
+        head = f"{label}: {self.n_images} images OK in {self.root}"
+        unknown = f", {len(self.unchecked)} without a known sum" if self.unchecked else ""
+        if self.generated and tolerated:
+            return (
+                f"{head}: a generated set, {len(self.checked) - tolerated} byte-identical to "
+                f"the shipped reference and {tolerated} equal to it in content (fingerprints)"
+                f"{unknown}; other bytes are expected where floating point rounds otherwise "
+                "than on the reference machine: results are comparable, not bit-identical"
+            )
+        return (
+            f"{head} ({len(self.checked) - tolerated} sha256 identical, {len(self.unchecked)} "
+            "without a known sum"
+            + (
+                f", {tolerated} differing in bytes but matching their content fingerprint: made "
+                "on a processor whose floating point rounds differently"
+                if tolerated
+                else ""
+            )
+            + ")"
+        )
 
 
 def layout_files(db: GridDatabase) -> dict[str, dict[str, Path]]:
@@ -103,8 +131,9 @@ def verify(
     known |= {MANIFEST_NAME, db.manifest.ground_truth}
     warnings += _extra_file_warnings(db, [rel for rel in _all_files(db.root) if rel not in known])
     return VerifyReport(
-        db.name, db.root, tuple(checked), tuple(unchecked), tuple(warnings), tuple(tolerated)
-    )
+        db.name, db.root, tuple(checked), tuple(unchecked), tuple(warnings), tuple(tolerated),
+        generator is not None,
+    )  # fmt: skip
 
 
 def _same_content(db: GridDatabase, kind: str, name: str) -> bool:

@@ -12,9 +12,10 @@
   where its own files disagree (:func:`database_warnings`: a Brains on Board folder's metadata
   and entries).
 
-The outcome is a note for the user, or a warning where a database's own files disagree (never
-an error: the run may go on, but its numbers are not the reference's); the sums' comparison
-goes into ``environment.json``.
+The outcome is a note for the user where files differ in content (bytes alone differing is
+expected of a generated set and not repeated on every run: ``homebench data verify`` says
+it), or a warning where a database's own files disagree (never an error: the run may go on,
+but its numbers are not the reference's); the sums' comparison goes into ``environment.json``.
 """
 
 from __future__ import annotations
@@ -47,8 +48,11 @@ class DataCheck:
     differing: tuple[str, ...]
 
     def note(self) -> str | None:
-        """One line for the user, or None when every file is byte-identical."""
-        if self.identical == self.checked:
+        """One line for the user, or None when no file differs in content: bytes that differ
+        with the content equal are what a generated set looks like on a processor that rounds
+        otherwise, expected, recorded in ``environment.json`` and said by ``homebench data
+        verify`` rather than by every run."""
+        if not self.differing:
             return None
         parts = [f"{self.identical} of {self.checked} files byte-identical to {self.reference}"]
         if self.tolerated:

@@ -36,8 +36,8 @@ class TrialRecord(BaseModel):
 @dataclass(frozen=True)
 class TrialRunOutcome:
     """What a robot experiment's run did, for the CLI: the summary ``table`` (written to
-    ``table_path``), trials ``computed`` now and ``reused``, and the ``failures`` of the
-    trials run now."""
+    ``table_path``), trials ``computed`` now and ``reused``, the ``failures`` of the trials
+    run now, and ``notes`` for the user on what the config implies (one line each)."""
 
     run_dir: Path
     table: pd.DataFrame
@@ -45,6 +45,7 @@ class TrialRunOutcome:
     computed: int
     reused: int
     failures: tuple[JobOutcome, ...]
+    notes: tuple[str, ...] = ()
 
 
 def read_trial(

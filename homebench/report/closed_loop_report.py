@@ -205,15 +205,21 @@ def _view(name: str, title: str, frame: pd.DataFrame, columns: Columns, **kwargs
     return make_view(name, title, out, digits, **kwargs)
 
 
+def summary_view(summary: pd.DataFrame) -> TableView:
+    """The per-method summary (:func:`summary_table`): success rate [95 % interval],
+    catchment, final distance, path ratio, steps, collisions, time: the report's first table
+    and, narrowed, what ``homebench run`` prints (:mod:`homebench.report.consoles`)."""
+    return _view(
+        "summary", "Closed-loop homing per method: success rate [95 % interval], catchment area",
+        summary, SUMMARY_COLUMNS, bounds={"success rate": ("success_lo", "success_hi")},
+        notes=("interval: bootstrap over starts (over goals when there are several)",),
+    )  # fmt: skip
+
+
 def closed_loop_views(run: ClosedLoopRun) -> list[TableView]:
     """The report tables: summary, catchment per goal, paired tests, then every trial."""
     frame, seed = run.trials, run.config.seed
-    summary = _view(
-        "summary", "Closed-loop homing per method: success rate [95 % interval], catchment area",
-        summary_table(frame, seed), SUMMARY_COLUMNS,
-        bounds={"success rate": ("success_lo", "success_hi")},
-        notes=("interval: bootstrap over starts (over goals when there are several)",),
-    )  # fmt: skip
+    summary = summary_view(summary_table(frame, seed))
     catchment = _view("catchment", "Catchment area per goal (cells x cell area)",
                       catchment_table(frame), CATCHMENT_COLUMNS)  # fmt: skip
     paired = _view("paired", "Paired comparison on success from the same starts",

@@ -2,7 +2,10 @@
 
 Rows are method labels (in label order), columns conditions (``style/condition`` in a style
 sweep) of one world: where runs hold a condition of the same name on other databases, each
-world gets its own column, ``condition @ world`` (:mod:`homebench.analysis.worlds`). Each cell
+world gets its own column, ``condition @ world`` (:mod:`homebench.analysis.worlds`). A column
+that not every run holds names the runs that do, ``quick: original-day`` (runs of other
+worlds are not told apart by their conditions' names), with a note saying that a column
+named by its condition alone is in every run. Each cell
 is ``estimate [lo, hi]`` from its run's summary table (the 95 % goal-bootstrap interval), ``--``
 where there is none (a method that gives no home direction has no direction metric). A metric
 that a method can flatter by abstaining is followed, where the method gave no estimate for some
@@ -136,6 +139,26 @@ def _world_columns(cells: pd.DataFrame) -> list[str]:
     ]
 
 
+def _column_headers(cells: pd.DataFrame, labels: Sequence[str]) -> dict[str, str]:
+    """Each column of ``cells`` -> its header: named by the runs that hold it (``quick,
+    again: a-a``, runs in the order of ``labels``) unless every run holds it; runs of other
+    worlds cannot be told apart by their conditions' names."""
+    holders = cells.groupby("column", sort=False)["run"].agg(set)
+    return {
+        column: column if len(runs) == len(labels) else
+        f"{', '.join(r for r in labels if r in runs)}: {column}"
+        for column, runs in holders.items()
+    }  # fmt: skip
+
+
+def _column_notes(headers: dict[str, str], labels: Sequence[str]) -> tuple[str, ...]:
+    """A note where some columns name their runs and some (those in every run) do not."""
+    plain = sum(header == column for column, header in headers.items())
+    if plain in (0, len(headers)):
+        return ()
+    return (f"a column named by its condition alone is in every run ({', '.join(labels)})",)
+
+
 def _row_labels(cells: pd.DataFrame) -> list[str]:
     """The row of each cell: its method label, or ``run: label`` where the label is ambiguous."""
     ambiguous = {
@@ -205,6 +228,8 @@ def leaderboard(
     ahc = _ahc_settings(runs, names) if metric in AHC_METRICS else runs[0].metrics.ahc
     columns = [metric, f"{metric}_lo", f"{metric}_hi", *board.companions, "no_estimate_share"]
     cells = _cells(runs, names, list(dict.fromkeys(columns)))
+    headers = _column_headers(cells, names)
+    cells["column"] = cells["column"].map(headers)
     cells["row"] = _row_labels(cells)
     _, digits, scale = SUMMARY_COLUMNS[metric]
     cells["shown"] = [digits.round(float(v) * scale) for v in cells[metric]]
@@ -215,7 +240,8 @@ def leaderboard(
     rows, columns = list(dict.fromkeys(order["row"])), list(dict.fromkeys(cells["column"]))
     wide = cells.pivot(index="row", columns="column", values="text").reindex(rows)[columns]
     frame = wide.fillna(MISSING_TEXT).rename_axis(index="method", columns=None).reset_index()
-    view = make_view("leaderboard", _title(metric, ahc), frame, {})
+    notes = _column_notes(headers, names)
+    view = make_view("leaderboard", _title(metric, ahc), frame, {}, notes=notes)
     return Leaderboard(view, names, [Path(d) for d in run_dirs], missing_results(runs, names))
 
 
@@ -235,9 +261,10 @@ def write_index(board: Leaderboard, path: Path) -> Path:
         )
         items.append(f'<li><a href="{link}">{html.escape(label)}</a></li>')
     table = board.view.text_frame().to_html(index=False, escape=True, border=0)
+    notes = "".join(f"<p>{html.escape(note)}</p>\n" for note in board.view.notes)
     page = (
         '<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>homebench leaderboard'
-        f"</title></head>\n<body>\n<h1>{html.escape(board.view.title)}</h1>\n{table}\n"
+        f"</title></head>\n<body>\n<h1>{html.escape(board.view.title)}</h1>\n{table}\n{notes}"
         f"<h2>Runs</h2>\n<ul>\n{chr(10).join(items)}\n</ul>\n</body></html>\n"
     )
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -48,7 +48,7 @@ from homebench.evaluation.plan import COMPASS_METHOD
 from homebench.evaluation.runner import run_parallel, write_run_metadata
 from homebench.experiments.homing import MethodHomer
 from homebench.experiments.memory import MemoryGuide, facing, is_memory_method
-from homebench.experiments.robot import Robot, dead_reckon
+from homebench.experiments.robot import DriftModel, Robot, dead_reckon
 from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
 from homebench.experiments.route.familiar import follow_home
 from homebench.experiments.route.lifecycle import TargetSelectionError, select_targets
@@ -608,7 +608,20 @@ def run_route_experiment(
             write_text_atomic(run_dir / path, frame.to_csv(index=False))
     failures = tuple(outcome for outcome in outcomes if outcome.error)
     computed = len(todo) - len(failures)
-    return TrialRunOutcome(run_dir, table, table_path, computed, len(plan) - len(todo), failures)
+    return TrialRunOutcome(run_dir, table, table_path, computed, len(plan) - len(todo), failures,
+                           odometry_notes(config.drift))  # fmt: skip
+
+
+def odometry_notes(drift: DriftModel) -> tuple[str, ...]:
+    """A note when ``drift`` is none (a config without ``drift:``): the odometry baseline is
+    then perfect, and its zero error is no finding."""
+    if drift != DriftModel():
+        return ()
+    return (
+        "odometry is perfect here (the config gives no drift: section): the odometry baseline "
+        "knows the robot's true motion, so its error is 0 but for a passive displacement; give "
+        "drift: for odometry that errs",
+    )
 
 
 def route_scene(config: RouteConfig) -> Scene:
