@@ -190,6 +190,16 @@ def test_goal_panels_mark_failures_and_missing_estimates(tables) -> None:
     assert panels["reversed"].mean_ae_deg == pytest.approx(180.0)
 
 
+def test_goal_panels_read_an_abstention_as_the_run_config_says(tables) -> None:
+    """(3, 4), without an estimate for "holes", neighbours goal (2, 3): its walk fails by
+    default and arrives with metrics.return_ratio.no_estimate: arrived."""
+    arrived = MetricsConfig(return_ratio={"no_estimate": "arrived"})
+    strict = {p.label: p for p in goal_panels(tables.pairs, MetricsConfig(), "a-a", _goal(2, 3))}
+    lenient = {p.label: p for p in goal_panels(tables.pairs, arrived, "a-a", _goal(2, 3))}
+    assert strict["holes"].rr_failed[3, 4] and not lenient["holes"].rr_failed[3, 4]
+    assert lenient["holes"].rr > strict["holes"].rr
+
+
 def test_goals_know_their_world() -> None:
     frame = pd.DataFrame({"style": [None, "office", "office"], "seed": [None, 2, 2],
                           "goal_i": [1, 1, 0], "goal_j": [2, 2, 3]})  # fmt: skip
