@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from homebench.analysis.tables import FLIP_DEG, RunTables
-from homebench.config import AhcConfig
+from homebench.config import AhcConfig, ReturnRatioConfig
 from homebench.fileio import write_text_atomic
 from homebench.report.run_data import RunData
 
@@ -301,6 +301,31 @@ AHC_MEANINGS = {
     "cos_mean_ae": "the cosine of the mean AE (seed 001, eq. 12)",
     "mean_cos": "the mean of cos(AE) (as Vardy & Moeller report it)",
 }
+#: The RR settings of a run that names none, and how each reading of
+#: ``metrics.return_ratio.no_estimate`` treats a walk that ends on a position without an
+#: estimate (:data:`homebench.config.RRNoEstimate`).
+DEFAULT_RR = ReturnRatioConfig()
+RR_NO_ESTIMATE_MEANINGS = {
+    "fail": "as a failure (metrics.return_ratio.no_estimate: fail, the default: seed 001's "
+    "step procedure is silent on abstentions)",
+    "arrived": "as an arrival when that position is one of the goal's 8 grid neighbours, a "
+    "failure elsewhere (metrics.return_ratio.no_estimate: arrived)",
+}
+
+
+def rr_reading(rr: ReturnRatioConfig = DEFAULT_RR) -> str:
+    """The run's RR settings in words, every length with its unit (grid units): "steps of 0.8
+    grid units (multiples of the grid spacing), success radius 0.5 grid units, ..."."""
+    travel = (
+        "half the grid's perimeter" if rr.max_travel is None else f"{rr.max_travel:g} grid units"
+    )
+    return (
+        f"steps of {rr.rh:g} grid units (multiples of the grid spacing), success radius "
+        f"{rr.success_radius:g} grid units, max travel {travel}; a walk that ends on a position "
+        f"without an estimate counts {RR_NO_ESTIMATE_MEANINGS[rr.no_estimate]}"
+    )
+
+
 #: The header of the AHC with a missing estimate as 90 deg in the console, where the
 #: headline's is too wide.
 SHORT_AHC90 = "AHC90"
@@ -577,15 +602,36 @@ def _pivot(
     return order.sort(wide[methods].reset_index()), methods
 
 
-def rr_by_goal_view(goals: pd.DataFrame, order: RowOrder) -> TableView:
-    """Return ratio per condition and goal, one column per method (Figure 10 as a table)."""
+#: The rr_by_goal column of a method's share of RR walks ended on a position without an
+#: estimate.
+RR_ENDED = "{} ended on no est. [%]"
+
+
+def rr_by_goal_view(
+    goals: pd.DataFrame, order: RowOrder, rr: ReturnRatioConfig = DEFAULT_RR
+) -> TableView:
+    """Return ratio per condition and goal, one column per method (Figure 10 as a table),
+    then per method the share of the goal's RR walks that ended on a position without an
+    estimate (RR_ENDED; ``rr_no_estimate_share`` of the goal table, in %; absent from goal
+    tables written before it, then NaN); the notes say the run's RR settings (``rr``)."""
     factors = swept(goals)
-    wide, methods = _pivot(goals, [*factors, "condition", "goal_i", "goal_j"], "rr", order)
+    index = [*factors, "condition", "goal_i", "goal_j"]
+    wide, methods = _pivot(goals, index, "rr", order)
+    if "rr_no_estimate_share" not in goals.columns:
+        goals = goals.assign(rr_no_estimate_share=math.nan)
+    ended = _pivot(goals, index, "rr_no_estimate_share", order)[0][methods] * 100.0
+    ended.columns = [RR_ENDED.format(m) for m in methods]
     goal = [f"({i}, {j})" for i, j in zip(wide["goal_i"], wide["goal_j"], strict=True)]
     frame = pd.concat([wide[[*factors, "condition"]], pd.Series(goal, name="goal (i, j)"),
-                       wide[methods]], axis=1)  # fmt: skip
+                       wide[methods], ended], axis=1)  # fmt: skip
     title = "Return ratio per goal (share of start positions that reach the goal)"
-    return make_view("rr_by_goal", title, frame, dict.fromkeys(methods, FIXED3))
+    notes = (
+        f"RR: {rr_reading(rr)}.",
+        f"{RR_ENDED.format('<method>')}: the goal's RR walks that ended on a position without "
+        "an estimate.",
+    )
+    digits = {**dict.fromkeys(methods, FIXED3), **dict.fromkeys(ended.columns, FIXED1)}
+    return make_view("rr_by_goal", title, frame, digits, notes=notes)
 
 
 def ahc_by_distance_view(
@@ -677,7 +723,7 @@ def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
         headline_view(tables.summary, order, comparisons, ahc),
         *([band_view(tables.bands, order, ahc)] if len(tables.bands) else []),
         summary_view(tables.summary, order, comparisons, ahc),
-        rr_by_goal_view(tables.goals, order),
+        rr_by_goal_view(tables.goals, order, tables.metrics.return_ratio),
         ahc_by_distance_view(tables.ahc, order, ahc),
     ]
     return views + ([comparisons_view(comparisons, order, ahc)] if len(comparisons) else [])
