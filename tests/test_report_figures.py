@@ -42,6 +42,7 @@ from homebench.report.metric_figures import (
     MAX_RR_BARS,
     ConditionPanel,
     RRPanel,
+    ahc_bins,
     ahc_figure,
     ahc_range,
     rr_figure,
@@ -376,8 +377,21 @@ def test_ahc_panels_share_one_range_and_draw_ci_bands() -> None:
     # the pairs per bin, written along the (top) x axis
     top = axes[0].child_axes[0] if axes[0].child_axes else None
     labels = [t.get_text() for t in (top or axes[0]).get_xticklabels()]
-    assert labels == ["12", "8", "0"]
+    assert labels == ["12", "8"]  # the 90 cm bin holds no pair: the axis ends before it
+    assert all(ax.get_xlim() == pytest.approx((15.0, 75.0)) for ax in axes)
     plt.close(fig)
+
+
+def test_ahc_distance_axis_ends_at_the_last_bin_holding_a_pair() -> None:
+    """A 5 x 7 grid's pairs stop at 180 cm: bins up to 390 cm would leave half of every
+    panel empty. Empty bins between bins with pairs stay (their count, 0, says so)."""
+    centres = np.arange(30.0, 391.0, 30.0)
+    n = np.where(centres <= 180.0, 10, 0)
+    n[2] = 0  # a gap
+    table = pd.DataFrame({"bin": [f"{c:g}" for c in centres], "centre_cm": centres, "n": n})
+    np.testing.assert_array_equal(ahc_bins(table), np.arange(30.0, 181.0, 30.0))
+    assert ahc_bins(table.assign(n=0)).tolist() == centres.tolist()  # nothing to follow
+    assert ahc_bins(table.iloc[:0]).size == 0
 
 
 def test_rr_bars_per_goal_and_the_mean_with_its_interval() -> None:

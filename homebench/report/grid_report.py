@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 
+import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
@@ -34,6 +35,7 @@ from homebench.report.heatmaps import (
 from homebench.report.metric_figures import (
     ConditionPanel,
     RRPanel,
+    ahc_bins,
     ahc_figure,
     ahc_pages,
     ahc_range,
@@ -201,22 +203,29 @@ def _lettered(chunks: Sequence[Sequence[object]], titles: Sequence[str]) -> Iter
         yield f"{_page_note(k, len(chunks))}: {listed}"
 
 
+def _bins_note(centres: np.ndarray) -> str:
+    """The caption's words on the distance bins shown (cm), or ""."""
+    if not len(centres):
+        return ""
+    return f"; distance bins {centres[0]:g} to {centres[-1]:g} cm (up to the farthest pair's bin)"
+
+
 def _metric_figures(
     run: RunData, styles: dict[str, MethodStyle]
 ) -> Iterator[tuple[str, str, Figure]]:
     """(file stem, caption, figure): AHC against distance (the paper's Figure 9) and RR per
     goal (Figure 10), every condition side by side, on one scale each."""
     ahc_panels, rr_panels, titles = _metric_panels(run)
-    limits = ahc_range(run.tables.ahc)
+    limits, centres = ahc_range(run.tables.ahc), ahc_bins(run.tables.ahc)
     chunks = ahc_pages(ahc_panels)
     label = ahc_header("AHC", run.metrics.ahc)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
         caption = (
             f"{label} against the distance between current and goal position{panels}. Lines: "
             "AHC per distance bin; bands: 95 % goal-bootstrap CI; top axis: pairs per bin; AHC "
-            f"axis {limits[0]:g} to {limits[1]:g} in every panel."
+            f"axis {limits[0]:g} to {limits[1]:g} in every panel{_bins_note(centres)}."
         )
-        yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label)
+        yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label, centres)
     chunks = rr_pages(rr_panels)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
         caption = (
