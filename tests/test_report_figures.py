@@ -32,10 +32,13 @@ from homebench.report.figure_data import (
 from homebench.report.grid_figures import (
     AE_MAX_DEG,
     MAX_GOALS_PER_FIGURE,
+    TITLE_MIN_POINTS,
     ae_figure,
     field_figure,
     grid_layout,
     grid_pages,
+    panel_title,
+    text_width,
 )
 from homebench.report.grid_report import _goal_figures, grid_figures, run_styles
 from homebench.report.metric_figures import (
@@ -285,6 +288,29 @@ def test_all_conditions_figures_follow_the_conditions(many_goals_run) -> None:
     assert {section for _, section, _, _ in drawn[3:]} == {
         "Appendix: per-goal figures, a-b (current: db-a, goal: db-b)"
     }
+
+
+def test_per_goal_panel_titles_fit_their_panel_in_two_lines(tables) -> None:
+    """Label and goal on one line, what the panel shows on the next, the font shrunk (not
+    below TITLE_MIN_POINTS) until each line's measured width fits the panel."""
+    tall = Grid((10, 17), 0.3, (0.0, 0.0))
+    for grid, n_methods in ((tall, 6), (GRID, 3), (GRID, 1)):
+        width = grid_layout(grid, n_methods).panel_width
+        for label, goal in (
+            ("min-warping", "(0, 3) office seed 2"),
+            ("sift[ratio=0.7]", "(9, 16)"),
+        ):
+            title = panel_title(label, goal, "12 no est., RR 0.85", width)
+            lines = title.text.split("\n")
+            assert lines[0].startswith(label) and len(lines) == 2, (title, width)
+            assert title.points >= TITLE_MIN_POINTS
+            assert all(text_width(line, title.points) <= width for line in lines), (title, width)
+    with report_style():
+        panels = goal_panels(tables.pairs, MetricsConfig(), "a-a", _goal(1, 2))
+        fig = field_figure([(_goal(1, 2), panels)], method_styles(LABELS))
+    titles = [ax.get_title() for ax in fig.axes if ax.get_title()]
+    assert len(titles) == 3 and all(t.count("\n") == 1 for t in titles), titles
+    plt.close(fig)
 
 
 def test_ae_maps_use_the_fixed_scale(tables) -> None:
