@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -40,7 +41,7 @@ from homebench.report.grid_figures import (
     panel_title,
     text_width,
 )
-from homebench.report.grid_report import _goal_figures, grid_figures, run_styles
+from homebench.report.grid_report import _goal_figures, _metric_figures, grid_figures, run_styles
 from homebench.report.metric_figures import (
     MAX_RR_BARS,
     ConditionPanel,
@@ -288,6 +289,20 @@ def test_all_conditions_figures_follow_the_conditions(many_goals_run) -> None:
     assert {section for _, section, _, _ in drawn[3:]} == {
         "Appendix: per-goal figures, a-b (current: db-a, goal: db-b)"
     }
+
+
+def test_metric_figure_captions_note_intervals_on_fewer_than_five_goals(
+    tmp_path: Path, many_goals_run
+) -> None:
+    few = load_run(write_fake_run(tmp_path / "run", METHODS, conditions=("a-b",)))  # 2 goals
+    for run, noted in ((few, True), (many_goals_run, False)):
+        with report_style():
+            drawn = list(itertools.islice(_metric_figures(run, run_styles(run)), 2))
+            for *_, fig in drawn:
+                plt.close(fig)
+        assert [stem for stem, _, _ in drawn] == ["ahc_1", "rr_1"]
+        for _, caption, _ in drawn:
+            assert ("rest on 2 goals, fewer than 5" in caption) is noted, caption
 
 
 def test_per_goal_panel_titles_fit_their_panel_in_two_lines(tables) -> None:

@@ -33,6 +33,7 @@ from homebench.report.tables import (
     RowOrder,
     band_view,
     console_summary,
+    few_goals_note,
     headline_view,
     make_view,
     report_views,
@@ -203,6 +204,20 @@ def test_rr_table_gives_the_share_of_walks_ended_by_an_abstention(tmp_path: Path
     notes = " ".join(strict.notes)
     assert "0.5 grid units" in notes and "no_estimate: fail" in notes
     assert "no_estimate: arrived" in " ".join(lenient.notes)
+
+
+def test_intervals_on_fewer_than_five_goals_carry_a_visible_note(views: dict) -> None:
+    """The fake run has 2 goals: every table that draws intervals says so; 10 goals: none."""
+    for name in ("headline", "bands", "summary", "ahc_by_distance", "comparisons"):
+        assert any("rest on 2 goals" in note for note in views[name].notes), name
+        assert "rest on 2 goals" in to_markdown(views[name])
+    assert not any("goals, fewer than" in note for note in views["rr_by_goal"].notes)
+    assert few_goals_note([1, 1]) == ""  # a single goal has no interval at all
+    assert few_goals_note([5, 30]) == ""
+    assert "rest on 2 to 4 goals" in few_goals_note([2, 4, 12, math.nan])
+    ten = synthetic_tables(synthetic_pairs({"a": (0.0, 3.0)}))
+    headline = headline_view(ten["summary"], RowOrder(), pd.DataFrame(columns=COLUMNS))
+    assert not any("fewer than" in note for note in headline.notes)
 
 
 def test_labels_the_order_does_not_list_come_last_sorted() -> None:

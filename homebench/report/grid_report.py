@@ -45,7 +45,7 @@ from homebench.report.metric_figures import (
 )
 from homebench.report.run_data import RunData
 from homebench.report.style import MethodStyle, method_styles
-from homebench.report.tables import ahc_header, run_order
+from homebench.report.tables import ahc_header, few_goals_note, run_order
 
 #: Sections of the figures of all conditions side by side (AHC, RR), and of the time per call.
 METRICS_SECTION = "All conditions"
@@ -203,6 +203,27 @@ def _lettered(chunks: Sequence[Sequence[object]], titles: Sequence[str]) -> Iter
         yield f"{_page_note(k, len(chunks))}: {listed}"
 
 
+def _ahc_goal_counts(panels: Sequence[ConditionPanel], centres: np.ndarray) -> list[float]:
+    """The goals each drawn AHC band rests on: per method and bin shown (``centres``, cm)
+    that holds a pair."""
+    rows = pd.concat([panel.rows for panel in panels], ignore_index=True)
+    drawn = rows[(rows["bin"] != "all") & (rows["n"] > 0) & rows["centre_cm"].isin(centres)]
+    return drawn["n_goals"].tolist() if "n_goals" in drawn else []
+
+
+def _rr_goal_counts(panels: Sequence[RRPanel]) -> list[float]:
+    """The goals each drawn mean-RR interval rests on: per panel and method, the goals with
+    an RR."""
+    return [n for panel in panels for n in panel.goals.groupby("method")["rr"].count()]
+
+
+def _caption_note(n_goals: Sequence[float]) -> str:
+    """A caption's sentence on intervals from few goals (:func:`~homebench.report.tables.
+    few_goals_note`) after a space, or "" when it needs none."""
+    note = few_goals_note(n_goals)
+    return f" {note}" if note else ""
+
+
 def _bins_note(centres: np.ndarray) -> str:
     """The caption's words on the distance bins shown (cm), or ""."""
     if not len(centres):
@@ -224,15 +245,18 @@ def _metric_figures(
             f"{label} against the distance between current and goal position{panels}. Lines: "
             "AHC per distance bin; bands: 95 % goal-bootstrap CI; top axis: pairs per bin; AHC "
             f"axis {limits[0]:g} to {limits[1]:g} in every panel{_bins_note(centres)}."
+            f"{_caption_note(_ahc_goal_counts(chunk, centres))}"
         )
         yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label, centres)
     chunks = rr_pages(rr_panels)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
+        radius = run.metrics.return_ratio.success_radius
         caption = (
-            f"Return ratio (RR) per goal{panels}. Right of the dotted line: each method's mean "
-            "RR over the goals with its 95 % goal-bootstrap CI; n/a: the field does not cover "
-            "the grid (or the images are posed, not on a grid), or the method gives no home "
-            "direction."
+            f"Return ratio (RR) per goal{panels}: the share of start positions whose walk "
+            f"reaches within {radius:g} grid units of the goal. Right of the dotted line: each "
+            "method's mean RR over the goals with its 95 % goal-bootstrap CI; n/a: the field "
+            "does not cover the grid (or the images are posed, not on a grid), or the method "
+            f"gives no home direction.{_caption_note(_rr_goal_counts(chunk))}"
         )
         yield f"rr_{k + 1}", caption, rr_figure(chunk, styles)
 

@@ -287,6 +287,27 @@ COMPARED = ("mean_ae_deg", "ahc", "rr")
 INTERVAL_NOTE = (
     "[lo, hi]: 95 % interval of a bootstrap over goals (none with a single goal)."
 )  # fmt: skip
+#: Intervals from fewer goals than this get a visible note (:func:`few_goals_note`).
+FEW_GOALS = 5
+
+
+def few_goals_note(n_goals: Iterable[float]) -> str:
+    """The note under a table or in a caption whose intervals rest on ``n_goals`` goals each
+    (one count per interval; NaN and single goals, which have no interval, ignored): "" when
+    every interval rests on FEW_GOALS goals or more."""
+    counts = [int(n) for n in n_goals if not pd.isna(n) and n >= 2]
+    few = sorted({n for n in counts if n < FEW_GOALS})
+    if not few:
+        return ""
+    which = "The" if len(few) == len(set(counts)) else "Some"
+    rest = f"{few[0]}" if len(few) == 1 else f"{few[0]} to {few[-1]}"
+    return (
+        f"{which} intervals here rest on {rest} goals, fewer than {FEW_GOALS}: a bootstrap over "
+        "so few goals cannot reach beyond their values (with 3 goals it covers about 75 % "
+        "whatever its level), so read them as rough ranges."
+    )
+
+
 SIGNIFICANCE_NOTE = (
     f"the best value of its condition, and better than every other method of the condition "
     f"in a goal-level sign-flip test (p < {ALPHA:g}, Holm-adjusted across the run's "
@@ -403,6 +424,13 @@ BAND_COLUMNS = {
     "rotation_flip_share": "rotation flips [%]",
 }
 BAND_INTERVALS = ("ahc", "no_estimate_share", "mean_ae_deg")
+
+
+def _few_goals(table: pd.DataFrame) -> tuple[str, ...]:
+    """:func:`few_goals_note` of a table's ``n_goals`` column, as a tuple of notes (none when
+    it needs no note or has no such column)."""
+    note = few_goals_note(table["n_goals"]) if "n_goals" in table.columns else ""
+    return (note,) if note else ()
 
 
 def swept(table: pd.DataFrame) -> list[str]:
@@ -528,7 +556,8 @@ def _summary_columns(
     marked = {(row, columns.shown[column])
               for row, column in significant_cells(summary, comparisons)
               if column in columns.shown}  # fmt: skip
-    notes = (INTERVAL_NOTE, metrics_note(columns.shown, ahc), *notes)
+    few = few_goals_note(summary["n_goals"]) if "n_goals" in summary else ""
+    notes = (INTERVAL_NOTE, *([few] if few else []), metrics_note(columns.shown, ahc), *notes)
     return make_view(name, title, columns.frame, columns.digits, columns.bounds,
                      frozenset(marked), SIGNIFICANCE_NOTE, notes, grouped)  # fmt: skip
 
@@ -583,6 +612,7 @@ def band_view(bands: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC
     )
     notes = (
         INTERVAL_NOTE,
+        *_few_goals(bands),
         metrics_note(columns.shown, ahc),
         "Each band's metrics are over its own pairs, so a method that homes well near the "
         "goal and fails far from it is not hidden in one mean over every distance.",
@@ -658,7 +688,8 @@ def ahc_by_distance_view(
         f"{name} by distance between current and goal position (bin centres): "
         f"{name} [95 % interval]"
     )
-    return make_view("ahc_by_distance", title, frame, digits, bounds, notes=(INTERVAL_NOTE,))
+    notes = (INTERVAL_NOTE, *_few_goals(binned))
+    return make_view("ahc_by_distance", title, frame, digits, bounds, notes=notes)
 
 
 def _oriented(comparisons: pd.DataFrame, order: RowOrder) -> pd.DataFrame:
@@ -707,6 +738,7 @@ def comparisons_view(
         "p goal (Holm): sign-flip test over goals; p pair test (Holm): Wilcoxon signed-rank "
         "over pairs (AE, AHC) or McNemar over starts (RR), which ignore that pairs cluster by "
         "goal; Holm-adjusted across the run's comparisons (within each style).",
+        *_few_goals(oriented),
     )
     bounds = {"B - A": ends} if ends else {}
     return make_view("comparisons", title, frame, digits, bounds, notes=notes)
