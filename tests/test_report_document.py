@@ -105,6 +105,10 @@ def test_the_pdf_has_numbered_captions_and_the_appendix(tmp_path: Path) -> None:
     assert "\n*Figure 1. " in markdown and "\n*Figure 5. " in markdown
     for text in (html, markdown):
         assert DEFINITIONS_TITLE in text and CONFIG_TITLE in text and "Test CPU 3000" in text
+    # beside the timing columns and in the timing figure's caption: the host's load
+    timing = next(texts[k] for k in figure_pages if "Time per call" in texts[k])
+    assert "load while this run timed its jobs was not recorded" in timing
+    assert markdown.count("The host's load while this run timed its jobs was not recorded") >= 2
 
 
 def _check_placement(figure: tuple[float, float], caption: str) -> None:

@@ -32,6 +32,7 @@ from homebench.report.heatmaps import (
     heatmap_columns,
     heatmap_figures,
 )
+from homebench.report.host_load import load_note
 from homebench.report.metric_figures import (
     ConditionPanel,
     RRPanel,
@@ -273,7 +274,7 @@ def grid_figures(run: RunData, max_goals: int | None) -> Iterator[SectionFigure]
         yield stem, METRICS_SECTION, caption, fig
     caption = (
         "Time per call, all conditions: describe per image, home per pair (log scale; box: "
-        "quartiles, line: median)."
+        f"quartiles, line: median). {load_note(run.environment)}"
     )
     pairs = run.tables.pairs
     yield "timing", TIMING_SECTION, caption, timing_figure(image_describe_times(pairs), pairs,

@@ -567,15 +567,19 @@ def summary_view(
     order: RowOrder,
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
+    timing_note: str = "",
 ) -> TableView:
     """Method x condition summary (per swept style) in ``order``: goals, pairs, share without
     estimate, AE, rotation error and flips, AHC (the paper's and with a missing estimate as
-    90 deg; ``ahc``: the run's AHC settings), RR, catchment, times; each metric with its
-    interval; significantly best cells (``comparisons``: the run's
+    90 deg; ``ahc``: the run's AHC settings), RR, catchment, times (``timing_note``, the
+    host's load while they were measured, under the table); each metric with its interval;
+    significantly best cells (``comparisons``: the run's
     :func:`~homebench.analysis.tables.method_comparisons`) marked."""
     headers = {source: header for source, (header, _, _) in SUMMARY_COLUMNS.items()}
     title = "Summary per condition and method: estimate [95 % interval]"
-    return _summary_columns("summary", title, summary, order, comparisons, headers, None, ahc)
+    notes = (timing_note,) if timing_note else ()
+    return _summary_columns("summary", title, summary, order, comparisons, headers, None, ahc,
+                            notes)  # fmt: skip
 
 
 def headline_view(
@@ -584,18 +588,21 @@ def headline_view(
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
     console: bool = False,
+    timing_note: str = "",
 ) -> TableView:
     """The summary's HEADLINE_COLUMNS (AHC, AHC with a missing estimate as 90 deg and the
     share without estimate beside it, RR, mean AE, rotation error and flips, home time),
     HEADLINE_INTERVALS with their interval, marks as in :func:`summary_view`: the report's
     first table; ``console``: the narrower CONSOLE_COLUMNS, CONSOLE_INTERVALS alone with their
-    interval (the summary ``homebench run`` prints)."""
+    interval (the summary ``homebench run`` prints); ``timing_note``: the host's load while
+    the times were measured, under the table."""
     title = "Results per condition and method: estimate [95 % interval]"
     headers, intervals = (
         (CONSOLE_COLUMNS, CONSOLE_INTERVALS) if console else (HEADLINE_COLUMNS, HEADLINE_INTERVALS)
     )
+    notes = (HEADLINE_NOTE, *((timing_note,) if timing_note else ()))
     return _summary_columns("headline", title, summary, order, comparisons, headers, intervals,
-                            ahc, (HEADLINE_NOTE,), grouped=True)  # fmt: skip
+                            ahc, notes, grouped=True)  # fmt: skip
 
 
 def band_view(bands: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC) -> TableView:
@@ -744,17 +751,18 @@ def comparisons_view(
     return make_view("comparisons", title, frame, digits, bounds, notes=notes)
 
 
-def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
+def report_views(tables: RunTables, order: RowOrder, timing_note: str = "") -> list[TableView]:
     """The report tables of a run in ``order``, the headline first, then the distance bands
     (none when the run has no results; no comparisons with a single method, no bands in
-    tables made without them)."""
+    tables made without them); ``timing_note`` (the host's load while the times were
+    measured) under the tables with timing columns, the headline and the summary."""
     if tables.pairs.empty:
         return []
     comparisons, ahc = tables.comparisons, tables.metrics.ahc
     views = [
-        headline_view(tables.summary, order, comparisons, ahc),
+        headline_view(tables.summary, order, comparisons, ahc, timing_note=timing_note),
         *([band_view(tables.bands, order, ahc)] if len(tables.bands) else []),
-        summary_view(tables.summary, order, comparisons, ahc),
+        summary_view(tables.summary, order, comparisons, ahc, timing_note),
         rr_by_goal_view(tables.goals, order, tables.metrics.return_ratio),
         ahc_by_distance_view(tables.ahc, order, ahc),
     ]
