@@ -5,7 +5,8 @@ Views of a run's tables (``homebench.evaluation.results``): the headline (the su
 columns: AHC beside the AHC with a missing estimate as 90 deg and the share without an
 estimate, so that a method that abstains does not rank above its homing; also printed by
 ``homebench run``), the metrics per distance band, the method x condition summary, the return
-ratio per goal (seed 001, Figure 10 as a table), the AHC per distance bin (Figure 9 as a table)
+ratio per goal (seed 001, Figure 10 as a table, with each method's share of walks ended on a
+position without an estimate), the AHC per distance bin (Figure 9 as a table)
 and the paired comparisons of the methods. An AHC header names the run's AHC definition when it
 is not the default (:func:`ahc_header`). Rows follow the run's config: conditions, then
 methods, in the order the config lists them (:class:`RowOrder`).
