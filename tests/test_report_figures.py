@@ -19,7 +19,7 @@ from matplotlib.quiver import Quiver
 from matplotlib.text import Text
 from test_report_runs import GRID, FakeMethod, write_fake_run
 
-from homebench.config import MetricsConfig
+from homebench.config import MetricsConfig, ReturnRatioConfig
 from homebench.evaluation.results import build_tables
 from homebench.geometry import Grid
 from homebench.report.figure_data import (
@@ -41,7 +41,13 @@ from homebench.report.grid_figures import (
     panel_title,
     text_width,
 )
-from homebench.report.grid_report import _goal_figures, _metric_figures, grid_figures, run_styles
+from homebench.report.grid_report import (
+    _goal_figures,
+    _metric_figures,
+    _rr_walks,
+    grid_figures,
+    run_styles,
+)
 from homebench.report.metric_figures import (
     MAX_RR_BARS,
     ConditionPanel,
@@ -303,6 +309,12 @@ def test_metric_figure_captions_note_intervals_on_fewer_than_five_goals(
         assert [stem for stem, _, _ in drawn] == ["ahc_1", "rr_1"]
         for _, caption, _ in drawn:
             assert ("rest on 2 goals, fewer than 5" in caption) is noted, caption
+
+
+def test_rr_caption_gives_the_radius_in_grid_units_and_a_non_default_reading() -> None:
+    assert _rr_walks(ReturnRatioConfig()).endswith("within 0.5 grid units of the goal")
+    lenient = _rr_walks(ReturnRatioConfig(success_radius=0.25, no_estimate="arrived"))
+    assert "within 0.25 grid units" in lenient and "no_estimate: arrived" in lenient
 
 
 def test_per_goal_panel_titles_fit_their_panel_in_two_lines(tables) -> None:

@@ -20,7 +20,7 @@ from test_results_uncertainty import tables as synthetic_tables
 
 from homebench.analysis.comparisons import COLUMNS
 from homebench.analysis.tables import RunTables, method_comparisons
-from homebench.config import MetricsConfig
+from homebench.config import MetricsConfig, ReturnRatioConfig
 from homebench.evaluation.results import ANGLE_COLUMNS, build_tables, write_tables
 from homebench.report.pages import TABLE_FONT_SIZE, TABLE_ROWS, table_pages
 from homebench.report.run_data import load_run
@@ -218,6 +218,19 @@ def test_intervals_on_fewer_than_five_goals_carry_a_visible_note(views: dict) ->
     ten = synthetic_tables(synthetic_pairs({"a": (0.0, 3.0)}))
     headline = headline_view(ten["summary"], RowOrder(), pd.DataFrame(columns=COLUMNS))
     assert not any("fewer than" in note for note in headline.notes)
+
+
+def test_headline_and_console_say_when_rr_counts_an_abstention_as_arrival() -> None:
+    summary = synthetic_tables(synthetic_pairs({"a": (0.0, 3.0)}))["summary"]
+    none = pd.DataFrame(columns=COLUMNS)
+    arrived = ReturnRatioConfig(no_estimate="arrived")
+    assert "no_estimate" not in " ".join(headline_view(summary, RowOrder(), none).notes)
+    said = " ".join(headline_view(summary, RowOrder(), none, rr=arrived).notes)
+    assert "goal's 8 grid neighbours" in said and "no_estimate: arrived" in said
+    assert "no_estimate: arrived" in " ".join(
+        summary_view(summary, RowOrder(), none, rr=arrived).notes
+    )
+    assert "no_estimate:" in console_summary(summary, RowOrder(), none, rr=arrived)
 
 
 def test_labels_the_order_does_not_list_come_last_sorted() -> None:

@@ -19,6 +19,7 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from homebench.analysis.tables import gives_directions, posed_rows
+from homebench.config import ReturnRatioConfig
 from homebench.report.figure_data import (
     condition_goals,
     goal_panels,
@@ -46,7 +47,13 @@ from homebench.report.metric_figures import (
 )
 from homebench.report.run_data import RunData
 from homebench.report.style import MethodStyle, method_styles
-from homebench.report.tables import ahc_header, few_goals_note, run_order
+from homebench.report.tables import (
+    DEFAULT_RR,
+    RR_NO_ESTIMATE_MEANINGS,
+    ahc_header,
+    few_goals_note,
+    run_order,
+)
 
 #: Sections of the figures of all conditions side by side (AHC, RR), and of the time per call.
 METRICS_SECTION = "All conditions"
@@ -225,6 +232,21 @@ def _caption_note(n_goals: Sequence[float]) -> str:
     return f" {note}" if note else ""
 
 
+def _rr_walks(rr: ReturnRatioConfig) -> str:
+    """The RR caption's words on what a goal's RR is: the success radius (grid units) and,
+    when not the default, how a walk ending on a position without an estimate counts."""
+    said = (
+        f"the share of start positions whose walk reaches within {rr.success_radius:g} grid "
+        "units of the goal"
+    )
+    if rr.no_estimate == DEFAULT_RR.no_estimate:
+        return said
+    return (
+        f"{said} (a walk ending on a position without an estimate counts "
+        f"{RR_NO_ESTIMATE_MEANINGS[rr.no_estimate]})"
+    )
+
+
 def _bins_note(centres: np.ndarray) -> str:
     """The caption's words on the distance bins shown (cm), or ""."""
     if not len(centres):
@@ -249,12 +271,10 @@ def _metric_figures(
             f"{_caption_note(_ahc_goal_counts(chunk, centres))}"
         )
         yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label, centres)
-    chunks = rr_pages(rr_panels)
+    chunks, rr_walks = rr_pages(rr_panels), _rr_walks(run.metrics.return_ratio)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
-        radius = run.metrics.return_ratio.success_radius
         caption = (
-            f"Return ratio (RR) per goal{panels}: the share of start positions whose walk "
-            f"reaches within {radius:g} grid units of the goal. Right of the dotted line: each "
+            f"Return ratio (RR) per goal, {rr_walks}{panels}. Right of the dotted line: each "
             "method's mean RR over the goals with its 95 % goal-bootstrap CI; n/a: the field "
             "does not cover the grid (or the images are posed, not on a grid), or the method "
             f"gives no home direction.{_caption_note(_rr_goal_counts(chunk))}"

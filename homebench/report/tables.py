@@ -374,15 +374,23 @@ MEANINGS = {
 }
 
 
-def metrics_note(headers: dict[str, str], ahc: AhcConfig = DEFAULT_AHC) -> str:
+def metrics_note(
+    headers: dict[str, str], ahc: AhcConfig = DEFAULT_AHC, rr: ReturnRatioConfig = DEFAULT_RR
+) -> str:
     """What the metric columns of a view are, in its order: ``headers``, source -> header of
-    the columns it shows; ``ahc``, the run's AHC settings."""
+    the columns it shows; ``ahc``, the run's AHC settings; ``rr``, its RR settings (their
+    reading of an abstention said when it is not the default)."""
     kept = (
         "over the pairs with an estimate (the paper's reading)"
         if ahc.missing == "exclude"
         else "with a missing estimate as 90 deg (metrics.ahc.missing)"
     )
     meanings = {**MEANINGS, "ahc": f"{AHC_MEANINGS[ahc.definition]}, {kept}"}
+    if rr.no_estimate != DEFAULT_RR.no_estimate:
+        meanings["rr"] = (
+            f"{MEANINGS['rr']}; a walk that ends on a position without an estimate counts "
+            f"{RR_NO_ESTIMATE_MEANINGS[rr.no_estimate]}"
+        )
     said = [f"{header}: {meanings[source]}" for source, header in headers.items()
             if source in meanings]  # fmt: skip
     missing = "--: no value (a method that gives no home direction has no AE, AHC or RR)."
@@ -547,6 +555,7 @@ def _summary_columns(
     ahc: AhcConfig,
     notes: tuple[str, ...] = (),
     grouped: bool = False,
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> TableView:
     """A view of the summary's rows in ``order`` (swept world, condition, method) and its
     columns ``headers`` (:func:`_metric_columns`), significantly best cells (``comparisons``:
@@ -558,7 +567,7 @@ def _summary_columns(
               for row, column in significant_cells(summary, comparisons)
               if column in columns.shown}  # fmt: skip
     few = few_goals_note(summary["n_goals"]) if "n_goals" in summary else ""
-    notes = (INTERVAL_NOTE, *([few] if few else []), metrics_note(columns.shown, ahc), *notes)
+    notes = (INTERVAL_NOTE, *([few] if few else []), metrics_note(columns.shown, ahc, rr), *notes)
     return make_view(name, title, columns.frame, columns.digits, columns.bounds,
                      frozenset(marked), SIGNIFICANCE_NOTE, notes, grouped)  # fmt: skip
 
@@ -569,6 +578,7 @@ def summary_view(
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
     timing_note: str = "",
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> TableView:
     """Method x condition summary (per swept style) in ``order``: goals, pairs, share without
     estimate, AE, rotation error and flips, AHC (the paper's and with a missing estimate as
@@ -580,7 +590,7 @@ def summary_view(
     title = "Summary per condition and method: estimate [95 % interval]"
     notes = (timing_note,) if timing_note else ()
     return _summary_columns("summary", title, summary, order, comparisons, headers, None, ahc,
-                            notes)  # fmt: skip
+                            notes, rr=rr)  # fmt: skip
 
 
 def headline_view(
@@ -590,20 +600,21 @@ def headline_view(
     ahc: AhcConfig = DEFAULT_AHC,
     console: bool = False,
     timing_note: str = "",
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> TableView:
     """The summary's HEADLINE_COLUMNS (AHC, AHC with a missing estimate as 90 deg and the
     share without estimate beside it, RR, mean AE, rotation error and flips, home time),
     HEADLINE_INTERVALS with their interval, marks as in :func:`summary_view`: the report's
     first table; ``console``: the narrower CONSOLE_COLUMNS, CONSOLE_INTERVALS alone with their
     interval (the summary ``homebench run`` prints); ``timing_note``: the host's load while
-    the times were measured, under the table."""
+    the times were measured, under the table; ``rr``: the run's RR settings."""
     title = "Results per condition and method: estimate [95 % interval]"
     headers, intervals = (
         (CONSOLE_COLUMNS, CONSOLE_INTERVALS) if console else (HEADLINE_COLUMNS, HEADLINE_INTERVALS)
     )
     notes = (HEADLINE_NOTE, *((timing_note,) if timing_note else ()))
     return _summary_columns("headline", title, summary, order, comparisons, headers, intervals,
-                            ahc, notes, grouped=True)  # fmt: skip
+                            ahc, notes, grouped=True, rr=rr)  # fmt: skip
 
 
 def band_view(bands: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC) -> TableView:
@@ -759,12 +770,12 @@ def report_views(tables: RunTables, order: RowOrder, timing_note: str = "") -> l
     measured) under the tables with timing columns, the headline and the summary."""
     if tables.pairs.empty:
         return []
-    comparisons, ahc = tables.comparisons, tables.metrics.ahc
+    comparisons, ahc, rr = tables.comparisons, tables.metrics.ahc, tables.metrics.return_ratio
     views = [
-        headline_view(tables.summary, order, comparisons, ahc, timing_note=timing_note),
+        headline_view(tables.summary, order, comparisons, ahc, timing_note=timing_note, rr=rr),
         *([band_view(tables.bands, order, ahc)] if len(tables.bands) else []),
-        summary_view(tables.summary, order, comparisons, ahc, timing_note),
-        rr_by_goal_view(tables.goals, order, tables.metrics.return_ratio),
+        summary_view(tables.summary, order, comparisons, ahc, timing_note, rr),
+        rr_by_goal_view(tables.goals, order, rr),
         ahc_by_distance_view(tables.ahc, order, ahc),
     ]
     return views + ([comparisons_view(comparisons, order, ahc)] if len(comparisons) else [])
@@ -804,12 +815,13 @@ def console_summary(
     order: RowOrder,
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> str:
     """The summary ``homebench run`` prints: the headline table's console view (AHC, AHC with
-    a missing estimate as 90 deg, share without estimate, RR, mean AE, home time; ``ahc``: the
-    run's AHC settings), within CONSOLE_WIDTH columns for the usual condition and method
-    names."""
-    return to_text(headline_view(summary, order, comparisons, ahc, console=True))
+    a missing estimate as 90 deg, share without estimate, RR, mean AE, home time; ``ahc``,
+    ``rr``: the run's AHC and RR settings), within CONSOLE_WIDTH columns for the usual
+    condition and method names."""
+    return to_text(headline_view(summary, order, comparisons, ahc, console=True, rr=rr))
 
 
 def _columns(columns: list[list[str]], alignment: list[str]) -> list[str]:
