@@ -210,11 +210,13 @@ def test_the_rr_reading_of_an_abstention_leaves_every_job_key_alone(
     """RR is computed from the stored pairs: metrics.return_ratio.no_estimate changes the
     tables (run ``--update``), never a job."""
     given = arena_config(tmp_path, arena_manifest, goals=[[1, 2]], methods=[{"method": "warping"}])
-    keys = []
-    for reading in ("fail", "arrived"):
-        config = RunConfig.model_validate(
-            {**given, "metrics": {"return_ratio": {"no_estimate": reading}}}
-        )
-        plan = make_plan(config, prepare_sources(config, 1), tmp_path / "config.yaml")
-        keys.append(sorted(job.key for job in plan.home))
+    configs = [
+        RunConfig.model_validate({**given, "metrics": {"return_ratio": {"no_estimate": reading}}})
+        for reading in ("fail", "arrived")
+    ]
+    sources = prepare_sources(configs[0], 1)  # the same databases
+    keys = [
+        sorted(job.key for job in make_plan(config, sources, tmp_path / "config.yaml").home)
+        for config in configs
+    ]
     assert keys[0] == keys[1]
