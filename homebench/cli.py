@@ -320,7 +320,10 @@ def _format_summary(tables: Any, config: Any) -> str:
     from homebench.report.tables import config_order, console_summary
 
     order = config_order(config)
-    return console_summary(tables.summary, order, tables.comparisons, tables.metrics.ahc)
+    metrics = tables.metrics
+    return console_summary(
+        tables.summary, order, tables.comparisons, metrics.ahc, metrics.return_ratio
+    )
 
 
 def _run_experiment(

@@ -170,12 +170,24 @@ class MethodEntry(_Strict):
         return points
 
 
+#: How a return-ratio walk ends on a grid position without an estimate: ``fail`` (the default;
+#: seed 001's step procedure presumes an estimate everywhere and is silent on this:
+#: :mod:`homebench.analysis.return_ratio` quotes it) or ``arrived``: a success when that
+#: position is one of the goal's 8 grid neighbours (|di| <= 1 and |dj| <= 1), where warping-like
+#: methods abstain when no shift beats rho = 0 (the view looks like home); a failure anywhere
+#: else, so a method that abstains everywhere scores only the goal's and its neighbours' starts.
+RRNoEstimate = Literal["fail", "arrived"]
+
+
 class ReturnRatioConfig(_Strict):
-    """Seed 001's return ratio: step ``rh`` and success radius in grid units."""
+    """Seed 001's return ratio: step ``rh``, ``success_radius`` and ``max_travel`` in grid units
+    (multiples of the grid spacing), and how a walk ends on a position without an estimate
+    (``no_estimate``, :data:`RRNoEstimate`)."""
 
     rh: float = Field(0.8, gt=0)
     success_radius: float = Field(0.5, gt=0)
     max_travel: float | None = Field(None, gt=0)  # grid units; None: half the grid's perimeter
+    no_estimate: RRNoEstimate = "fail"
 
 
 #: The two AHCs of the literature: seed 001's eq. 12, the cosine of the mean AE

@@ -202,3 +202,21 @@ def test_a_real_sets_database_key_is_its_images_content_not_its_folder(
     image = copy / "pano" / "p0-0.png"
     write_png(image, 255 - read_grey(image))
     assert database_key(copy / "manifest.yaml") != database_key(arena_manifest)
+
+
+def test_the_rr_reading_of_an_abstention_leaves_every_job_key_alone(
+    tmp_path: Path, arena_manifest: Path
+) -> None:
+    """RR is computed from the stored pairs: metrics.return_ratio.no_estimate changes the
+    tables (run ``--update``), never a job."""
+    given = arena_config(tmp_path, arena_manifest, goals=[[1, 2]], methods=[{"method": "warping"}])
+    configs = [
+        RunConfig.model_validate({**given, "metrics": {"return_ratio": {"no_estimate": reading}}})
+        for reading in ("fail", "arrived")
+    ]
+    sources = prepare_sources(configs[0], 1)  # the same databases
+    keys = [
+        sorted(job.key for job in make_plan(config, sources, tmp_path / "config.yaml").home)
+        for config in configs
+    ]
+    assert keys[0] == keys[1]

@@ -43,6 +43,9 @@ def test_environment_and_resolved_config_record_what_was_used(
     assert environment["command"] == sys.argv
     assert environment["overrides"]["jobs"] == 1
     assert environment["overrides"]["job_timeout_s"] == 300
+    load = environment["load"]  # the host's 1-min load average as the run call began and ended
+    assert load["start_1min"] >= 0 and load["end_1min"] >= 0
+    assert load["jobs_timed"] > 0 and load["jobs_reused"] == 0
 
     resolved = json.loads((run_dir / "config.resolved.json").read_text())
     assert resolved["jobs"] == 1

@@ -43,7 +43,8 @@ from homebench.report.heatmaps import (
     heatmap_columns,
     heatmap_figure,
 )
-from homebench.report.pages import appendix_pages
+from homebench.report.pages import appendix_pages, run_summary
+from homebench.report.run_data import load_run
 from homebench.report.style import report_style
 
 METHODS = [FakeMethod("warping", 20.0), FakeMethod("mine", 90.0, frozenset({(0, 0)}))]
@@ -104,6 +105,10 @@ def test_the_pdf_has_numbered_captions_and_the_appendix(tmp_path: Path) -> None:
     assert "\n*Figure 1. " in markdown and "\n*Figure 5. " in markdown
     for text in (html, markdown):
         assert DEFINITIONS_TITLE in text and CONFIG_TITLE in text and "Test CPU 3000" in text
+    # beside the timing columns and in the timing figure's caption: the host's load
+    timing = next(texts[k] for k in figure_pages if "Time per call" in texts[k])
+    assert "load while this run timed its jobs was not recorded" in timing
+    assert markdown.count("The host's load while this run timed its jobs was not recorded") >= 2
 
 
 def _check_placement(figure: tuple[float, float], caption: str) -> None:
@@ -325,6 +330,19 @@ def test_a_sparse_environment_reads_not_recorded() -> None:
 def test_definitions_name_the_catchment_only_when_computed() -> None:
     assert any(h.startswith("Catchment") for h in definitions(MetricsConfig(catchment=True)))
     assert not any(h.startswith("Catchment") for h in definitions(MetricsConfig(catchment=False)))
+
+
+def test_definitions_and_title_page_say_the_rr_reading_and_its_units(tmp_path: Path) -> None:
+    for reading in ("fail", "arrived"):
+        said = definitions(MetricsConfig(return_ratio={"no_estimate": reading}))
+        rr = " ".join(text for heading, texts in said.items() if "RR" in heading
+                      for text in texts)  # fmt: skip
+        assert "success radius (grid units" in rr
+        assert f"no_estimate: {reading}" in rr
+    metrics = run_summary(load_run(_fake_run(tmp_path / "run")))["Metrics"]
+    rr_line = next(line for line in metrics if line.startswith("RR"))
+    assert rr_line.startswith("RR (grid units): step 0.8, success radius 0.5")
+    assert "no_estimate: fail" in rr_line
 
 
 def test_a_long_config_continues_on_more_pages(tmp_path: Path) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -18,7 +19,7 @@ from matplotlib.quiver import Quiver
 from matplotlib.text import Text
 from test_report_runs import GRID, FakeMethod, write_fake_run
 
-from homebench.config import MetricsConfig
+from homebench.config import MetricsConfig, ReturnRatioConfig
 from homebench.evaluation.results import build_tables
 from homebench.geometry import Grid
 from homebench.report.figure_data import (
@@ -32,16 +33,26 @@ from homebench.report.figure_data import (
 from homebench.report.grid_figures import (
     AE_MAX_DEG,
     MAX_GOALS_PER_FIGURE,
+    TITLE_MIN_POINTS,
     ae_figure,
     field_figure,
     grid_layout,
     grid_pages,
+    panel_title,
+    text_width,
 )
-from homebench.report.grid_report import _goal_figures, grid_figures, run_styles
+from homebench.report.grid_report import (
+    _goal_figures,
+    _metric_figures,
+    _rr_walks,
+    grid_figures,
+    run_styles,
+)
 from homebench.report.metric_figures import (
     MAX_RR_BARS,
     ConditionPanel,
     RRPanel,
+    ahc_bins,
     ahc_figure,
     ahc_range,
     rr_figure,
@@ -190,6 +201,16 @@ def test_goal_panels_mark_failures_and_missing_estimates(tables) -> None:
     assert panels["reversed"].mean_ae_deg == pytest.approx(180.0)
 
 
+def test_goal_panels_read_an_abstention_as_the_run_config_says(tables) -> None:
+    """(3, 4), without an estimate for "holes", neighbours goal (2, 3): its walk fails by
+    default and arrives with metrics.return_ratio.no_estimate: arrived."""
+    arrived = MetricsConfig(return_ratio={"no_estimate": "arrived"})
+    strict = {p.label: p for p in goal_panels(tables.pairs, MetricsConfig(), "a-a", _goal(2, 3))}
+    lenient = {p.label: p for p in goal_panels(tables.pairs, arrived, "a-a", _goal(2, 3))}
+    assert strict["holes"].rr_failed[3, 4] and not lenient["holes"].rr_failed[3, 4]
+    assert lenient["holes"].rr > strict["holes"].rr
+
+
 def test_goals_know_their_world() -> None:
     frame = pd.DataFrame({"style": [None, "office", "office"], "seed": [None, 2, 2],
                           "goal_i": [1, 1, 0], "goal_j": [2, 2, 3]})  # fmt: skip
@@ -274,6 +295,49 @@ def test_all_conditions_figures_follow_the_conditions(many_goals_run) -> None:
     assert {section for _, section, _, _ in drawn[3:]} == {
         "Appendix: per-goal figures, a-b (current: db-a, goal: db-b)"
     }
+
+
+def test_metric_figure_captions_note_intervals_on_fewer_than_five_goals(
+    tmp_path: Path, many_goals_run
+) -> None:
+    few = load_run(write_fake_run(tmp_path / "run", METHODS, conditions=("a-b",)))  # 2 goals
+    for run, noted in ((few, True), (many_goals_run, False)):
+        with report_style():
+            drawn = list(itertools.islice(_metric_figures(run, run_styles(run)), 2))
+            for *_, fig in drawn:
+                plt.close(fig)
+        assert [stem for stem, _, _ in drawn] == ["ahc_1", "rr_1"]
+        for _, caption, _ in drawn:
+            assert ("rest on 2 goals, fewer than 5" in caption) is noted, caption
+
+
+def test_rr_caption_gives_the_radius_in_grid_units_and_a_non_default_reading() -> None:
+    assert _rr_walks(ReturnRatioConfig()).endswith("within 0.5 grid units of the goal")
+    lenient = _rr_walks(ReturnRatioConfig(success_radius=0.25, no_estimate="arrived"))
+    assert "within 0.25 grid units" in lenient and "no_estimate: arrived" in lenient
+
+
+def test_per_goal_panel_titles_fit_their_panel_in_two_lines(tables) -> None:
+    """Label and goal on one line, what the panel shows on the next, the font shrunk (not
+    below TITLE_MIN_POINTS) until each line's measured width fits the panel."""
+    tall = Grid((10, 17), 0.3, (0.0, 0.0))
+    for grid, n_methods in ((tall, 6), (GRID, 3), (GRID, 1)):
+        width = grid_layout(grid, n_methods).panel_width
+        for label, goal in (
+            ("min-warping", "(0, 3) office seed 2"),
+            ("sift[ratio=0.7]", "(9, 16)"),
+        ):
+            title = panel_title(label, goal, "12 no est., RR 0.85", width)
+            lines = title.text.split("\n")
+            assert lines[0].startswith(label) and len(lines) == 2, (title, width)
+            assert title.points >= TITLE_MIN_POINTS
+            assert all(text_width(line, title.points) <= width for line in lines), (title, width)
+    with report_style():
+        panels = goal_panels(tables.pairs, MetricsConfig(), "a-a", _goal(1, 2))
+        fig = field_figure([(_goal(1, 2), panels)], method_styles(LABELS))
+    titles = [ax.get_title() for ax in fig.axes if ax.get_title()]
+    assert len(titles) == 3 and all(t.count("\n") == 1 for t in titles), titles
+    plt.close(fig)
 
 
 def test_ae_maps_use_the_fixed_scale(tables) -> None:
@@ -366,8 +430,21 @@ def test_ahc_panels_share_one_range_and_draw_ci_bands() -> None:
     # the pairs per bin, written along the (top) x axis
     top = axes[0].child_axes[0] if axes[0].child_axes else None
     labels = [t.get_text() for t in (top or axes[0]).get_xticklabels()]
-    assert labels == ["12", "8", "0"]
+    assert labels == ["12", "8"]  # the 90 cm bin holds no pair: the axis ends before it
+    assert all(ax.get_xlim() == pytest.approx((15.0, 75.0)) for ax in axes)
     plt.close(fig)
+
+
+def test_ahc_distance_axis_ends_at_the_last_bin_holding_a_pair() -> None:
+    """A 5 x 7 grid's pairs stop at 180 cm: bins up to 390 cm would leave half of every
+    panel empty. Empty bins between bins with pairs stay (their count, 0, says so)."""
+    centres = np.arange(30.0, 391.0, 30.0)
+    n = np.where(centres <= 180.0, 10, 0)
+    n[2] = 0  # a gap
+    table = pd.DataFrame({"bin": [f"{c:g}" for c in centres], "centre_cm": centres, "n": n})
+    np.testing.assert_array_equal(ahc_bins(table), np.arange(30.0, 181.0, 30.0))
+    assert ahc_bins(table.assign(n=0)).tolist() == centres.tolist()  # nothing to follow
+    assert ahc_bins(table.iloc[:0]).size == 0
 
 
 def test_rr_bars_per_goal_and_the_mean_with_its_interval() -> None:

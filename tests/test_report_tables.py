@@ -20,7 +20,7 @@ from test_results_uncertainty import tables as synthetic_tables
 
 from homebench.analysis.comparisons import COLUMNS
 from homebench.analysis.tables import RunTables, method_comparisons
-from homebench.config import MetricsConfig
+from homebench.config import MetricsConfig, ReturnRatioConfig
 from homebench.evaluation.results import ANGLE_COLUMNS, build_tables, write_tables
 from homebench.report.pages import TABLE_FONT_SIZE, TABLE_ROWS, table_pages
 from homebench.report.run_data import load_run
@@ -33,6 +33,7 @@ from homebench.report.tables import (
     RowOrder,
     band_view,
     console_summary,
+    few_goals_note,
     headline_view,
     make_view,
     report_views,
@@ -162,7 +163,9 @@ def test_rows_and_method_columns_follow_the_config_order(views: dict) -> None:
         (c, m.label) for c in CONDITIONS for m in METHODS
     ]
     rr = views["rr_by_goal"].frame
-    assert list(rr.columns) == ["condition", "goal (i, j)", "perfect", "reversed", "holes_10"]
+    ended = [f"{m} ended on no est. [%]" for m in ("perfect", "reversed", "holes_10")]
+    assert list(rr.columns) == ["condition", "goal (i, j)", "perfect", "reversed", "holes_10",
+                                *ended]  # fmt: skip
     assert rr["condition"].tolist() == ["a-b", "a-b", "a-a", "a-a"]
     assert rr["goal (i, j)"].tolist() == ["(1, 2)", "(2, 3)"] * 2
     ahc = views["ahc_by_distance"]
@@ -179,6 +182,55 @@ def test_rows_and_method_columns_follow_the_config_order(views: dict) -> None:
     # AE counted as 90 deg where holes_10 has no estimate (3 positions x 2 goals of 38 pairs)
     assert comparisons.loc[1, "B - A"] == round((32 * 10 + 6 * 90) / 38, 3)
     assert comparisons.loc[2, "B - A"] == round((32 * 10 + 6 * 90) / 38 - 180, 3)
+
+
+def test_rr_table_gives_the_share_of_walks_ended_by_an_abstention(tmp_path: Path) -> None:
+    """holes_10 has no estimate at (0, 0), (3, 4), (2, 0): the walks from there end at once,
+    in failure by default, as arrivals next to the goal with no_estimate: arrived; the notes
+    say which reading the run used and the radius's unit."""
+    run = write_fake_run(tmp_path / "run", METHODS, conditions=("a-a",))
+    found = {}
+    for reading in ("fail", "arrived"):
+        metrics = MetricsConfig(return_ratio={"no_estimate": reading})
+        views = report_views(build_tables(run, metrics), ORDER)
+        found[reading] = next(v for v in views if v.name == "rr_by_goal")
+    strict, lenient = found["fail"], found["arrived"]
+    share = strict.frame["holes_10 ended on no est. [%]"]
+    assert (share >= 100 * 3 / GRID.size).all()
+    assert (strict.frame["perfect ended on no est. [%]"] == 0).all()
+    pd.testing.assert_series_equal(share, lenient.frame["holes_10 ended on no est. [%]"])
+    # goal (2, 3) neighbours (3, 4): that walk arrives
+    assert lenient.frame.loc[1, "holes_10"] > strict.frame.loc[1, "holes_10"]
+    notes = " ".join(strict.notes)
+    assert "0.5 grid units" in notes and "no_estimate: fail" in notes
+    assert "no_estimate: arrived" in " ".join(lenient.notes)
+
+
+def test_intervals_on_fewer_than_five_goals_carry_a_visible_note(views: dict) -> None:
+    """The fake run has 2 goals: every table that draws intervals says so; 10 goals: none."""
+    for name in ("headline", "bands", "summary", "ahc_by_distance", "comparisons"):
+        assert any("rest on 2 goals" in note for note in views[name].notes), name
+        assert "rest on 2 goals" in to_markdown(views[name])
+    assert not any("goals, fewer than" in note for note in views["rr_by_goal"].notes)
+    assert few_goals_note([1, 1]) == ""  # a single goal has no interval at all
+    assert few_goals_note([5, 30]) == ""
+    assert "rest on 2 to 4 goals" in few_goals_note([2, 4, 12, math.nan])
+    ten = synthetic_tables(synthetic_pairs({"a": (0.0, 3.0)}))
+    headline = headline_view(ten["summary"], RowOrder(), pd.DataFrame(columns=COLUMNS))
+    assert not any("fewer than" in note for note in headline.notes)
+
+
+def test_headline_and_console_say_when_rr_counts_an_abstention_as_arrival() -> None:
+    summary = synthetic_tables(synthetic_pairs({"a": (0.0, 3.0)}))["summary"]
+    none = pd.DataFrame(columns=COLUMNS)
+    arrived = ReturnRatioConfig(no_estimate="arrived")
+    assert "no_estimate" not in " ".join(headline_view(summary, RowOrder(), none).notes)
+    said = " ".join(headline_view(summary, RowOrder(), none, rr=arrived).notes)
+    assert "goal's 8 grid neighbours" in said and "no_estimate: arrived" in said
+    assert "no_estimate: arrived" in " ".join(
+        summary_view(summary, RowOrder(), none, rr=arrived).notes
+    )
+    assert "no_estimate:" in console_summary(summary, RowOrder(), none, rr=arrived)
 
 
 def test_labels_the_order_does_not_list_come_last_sorted() -> None:

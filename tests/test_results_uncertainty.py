@@ -156,6 +156,31 @@ def test_rr_starts_are_every_start_of_every_goal(two_methods: pd.DataFrame, tmp_
     assert list(back.columns) == RR_START_COLUMNS and len(back) == len(starts)
 
 
+def test_goal_table_gives_the_share_of_rr_walks_ended_by_an_abstention(
+    two_methods: pd.DataFrame,
+) -> None:
+    goals, starts = goal_tables(two_methods, METRICS)
+    keys = ["method", "goal_i", "goal_j"]
+    share = starts.groupby(keys)["no_estimate"].mean()
+    assert share.gt(0).any()  # 10 % of the pairs have no estimate
+    pd.testing.assert_series_equal(
+        share, goals.set_index(keys)["rr_no_estimate_share"], check_names=False
+    )
+
+
+def test_rr_reads_an_abstention_as_the_run_config_says(two_methods: pd.DataFrame) -> None:
+    """metrics.return_ratio.no_estimate reaches the goal table and the starts: ``arrived``
+    turns walks that end next to the goal into successes, and no other."""
+    arrived = MetricsConfig(return_ratio={"no_estimate": "arrived"})
+    strict, strict_starts = goal_tables(two_methods, METRICS)
+    lenient, lenient_starts = goal_tables(two_methods, arrived)
+    changed = strict_starts["success"] != lenient_starts["success"]
+    assert changed.any() and lenient_starts.loc[changed, "success"].all()
+    assert lenient_starts.loc[changed, "no_estimate"].all()
+    assert (lenient["rr"] >= strict["rr"]).all() and (lenient["rr"] > strict["rr"]).any()
+    pd.testing.assert_series_equal(strict["rr_no_estimate_share"], lenient["rr_no_estimate_share"])
+
+
 def test_ahc_bins_gain_bounds_and_the_share_without_estimate(two_methods: pd.DataFrame) -> None:
     made = tables(two_methods)
     ahc, summary = made["ahc"], made["summary"].set_index("method")

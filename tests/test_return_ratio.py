@@ -134,6 +134,42 @@ def test_robot_steered_into_a_missing_estimate_fails_there():
     assert result.path_length[0, 2] == pytest.approx(7 * 0.8)  # x = 5.6 is nearest to i = 6
 
 
+def _abstains_next_to_goal(goal: tuple[int, int]) -> HomeField:
+    """The ideal field towards ``goal`` without an estimate at its 8 grid neighbours (what
+    warping gives where rho = 0 wins: the view looks like home)."""
+    angles = HomeField.ideal(GRID, goal).angles.copy()
+    near = (np.abs(II - goal[0]) <= 1) & (np.abs(JJ - goal[1]) <= 1)
+    angles[near] = np.nan
+    return HomeField(GRID, goal, angles)
+
+
+def test_abstention_next_to_the_goal_fails_by_default_and_arrives_when_asked():
+    field = _abstains_next_to_goal((5, 8))
+    failed = return_ratio(field)
+    assert failed.rr == pytest.approx(1 / N)  # every walk ends on a neighbour without estimate
+    assert failed.no_estimate.sum() == N - 1
+    arrived = return_ratio(field, no_estimate="arrived")
+    assert arrived.rr == 1.0
+    np.testing.assert_array_equal(arrived.no_estimate, failed.no_estimate)  # same walks end
+    np.testing.assert_array_equal(arrived.path_length, failed.path_length)
+
+
+def test_abstention_arrives_only_at_the_goals_grid_neighbours():
+    goal = (5, 8)
+    angles = HomeField.ideal(GRID, goal).angles.copy()
+    angles[(II == 3) & (JJ == 8)] = np.nan  # two positions from the goal
+    result = return_ratio(HomeField(GRID, goal, angles), no_estimate="arrived")
+    assert not result.success[3, 8] and result.no_estimate[3, 8]
+    assert not result.success[0, 8] and result.no_estimate[0, 8]  # walks through (3, 8)
+    everywhere = HomeField(GRID, goal, np.full(GRID.shape, np.nan))
+    assert return_ratio(everywhere, no_estimate="arrived").rr == pytest.approx(9 / N)
+
+
+def test_unknown_no_estimate_reading_is_refused():
+    with pytest.raises(ValueError, match="no_estimate"):
+        return_ratio(constant((0, 0), 0.0), no_estimate="ignore")
+
+
 def test_success_radius_rescues_a_slightly_off_field():
     # 5 degrees off +x from (0, 6) towards (9, 6): closest pass after 11 steps, at
     # (8.767, 6.767), 0.80 grid units from the goal; the next step is 1.01 away.

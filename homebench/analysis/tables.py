@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from homebench.analysis.metrics import HomeField, ae_summary, ahc_by_distance, distance_bins
-from homebench.analysis.return_ratio import catchment, return_ratio
+from homebench.analysis.return_ratio import catchment, configured_return_ratio
 from homebench.analysis.statistics import (
     GoalResampler,
     Interval,
@@ -158,13 +158,15 @@ def _field_of(group: pd.DataFrame) -> tuple[HomeField, bool]:
 
 
 def goal_tables(pairs: pd.DataFrame, metrics: MetricsConfig) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Return ratio (and catchment) per condition, method and goal (the paper's Figure 10),
-    and the outcome of every return-ratio start (columns ``RR_START_COLUMNS``; path length in
-    grid units), so that users can test the outcomes themselves.
+    """Return ratio per condition, method and goal (the paper's Figure 10), the share of its
+    walks that ended on a position without an estimate (``rr_no_estimate_share``: failures,
+    or with ``metrics.return_ratio.no_estimate: arrived`` arrivals next to the goal) and the
+    catchment; and the outcome of every return-ratio start (columns ``RR_START_COLUMNS``; path
+    length in grid units), so that users can test the outcomes themselves.
 
-    A goal whose field does not cover the grid has RR (and catchment) NaN and no starts.
+    A goal whose field does not cover the grid has RR, its share and catchment NaN and no
+    starts.
     """
-    rr = metrics.return_ratio
     rows, outcomes = [], []
     for key, group in pairs.groupby(GOAL_FACTORS, sort=True, dropna=False):
         factors = dict(zip(GOAL_FACTORS, key, strict=True))
@@ -172,15 +174,17 @@ def goal_tables(pairs: pd.DataFrame, metrics: MetricsConfig) -> tuple[pd.DataFra
         factors["style"] = None if pd.isna(factors["style"]) else str(factors["style"])
         home_field, complete = _field_of(group)
         row = {name: factors[name] for name in GOAL_COLUMNS}
-        row["rr"] = math.nan
+        row["rr"] = row["rr_no_estimate_share"] = math.nan
         if metrics.catchment:
             row["catchment"] = catchment(home_field).ratio if complete else math.nan
         if complete:
-            result = return_ratio(home_field, rr.rh, rr.success_radius, rr.max_travel)
+            result = configured_return_ratio(home_field, metrics.return_ratio)
             row["rr"] = result.rr
+            row["rr_no_estimate_share"] = float(np.mean(result.no_estimate[result.started]))
             outcomes.append((factors, result.outcomes()))
         rows.append(row)
-    columns = [*GOAL_COLUMNS, "rr", *(["catchment"] if metrics.catchment else [])]
+    columns = [*GOAL_COLUMNS, "rr", "rr_no_estimate_share",
+               *(["catchment"] if metrics.catchment else [])]  # fmt: skip
     return pd.DataFrame(rows, columns=columns), _start_table(outcomes)
 
 

@@ -3,9 +3,11 @@
 The resolved config is the config as run: the number of workers and the job limits used, and
 every method parameter with its default filled in. The environment holds the homebench source's
 git commit (and whether its files differ from it; None when the package is not a git checkout),
-host, platform, CPU model, Python, the version of every installed distribution, and for a grid
-run each method's distribution, version and code version, each database's identity, key (what
-its images hold) and manifest hash, the command line and the options that overrode the config.
+host, platform, CPU model, Python, the version of every installed distribution, the host's
+1-min load average as the run call began (``load``; a grid run adds it as the call ended and how
+many jobs the call timed and reused: :func:`record_load_end`), and for a grid run each method's
+distribution, version and code version, each database's identity, key (what its images hold)
+and manifest hash, the command line and the options that overrode the config.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from homebench.fileio import write_text_atomic
 from homebench.hashing import stable_hash
 from homebench.methods import registry
 
+ENVIRONMENT_FILE = "environment.json"
 #: The packages the report's title page lists (``versions``).
 PACKAGES = ("homebench", "numpy", "opencv-contrib-python-headless", "pandas", "joblib", "pydantic")
 
@@ -78,6 +81,30 @@ def installed_distributions() -> dict[str, str]:
     return dict(sorted(found.items(), key=lambda item: item[0].lower()))
 
 
+def load_average() -> float | None:
+    """The host's 1-min load average (processes running or waiting for a core), or None where
+    the platform does not report it."""
+    try:
+        return float(os.getloadavg()[0])
+    except (OSError, AttributeError):
+        return None
+
+
+def record_load_end(run_dir: Path, jobs_timed: int, jobs_reused: int) -> None:
+    """Add to ``run_dir``'s environment.json the host's load as the run call ends
+    (``load.end_1min``), the jobs the call timed and those it reused from earlier calls (whose
+    times were measured under a load not recorded); nothing when there is no record."""
+    path = run_dir / ENVIRONMENT_FILE
+    try:
+        environment = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return
+    load = environment.get("load") if isinstance(environment.get("load"), dict) else {}
+    environment["load"] = {**load, "end_1min": load_average(), "jobs_timed": jobs_timed,
+                           "jobs_reused": jobs_reused}  # fmt: skip
+    write_text_atomic(path, json.dumps(environment, indent=2, default=str) + "\n")
+
+
 def _versions() -> dict[str, str]:
     found = {"python": sys.version.split()[0]}
     for name in PACKAGES:
@@ -105,6 +132,7 @@ def environment(
         "cpu": {"model": cpu_model(), "count": os.cpu_count()},
         "cpu_count": os.cpu_count(),
         "started": datetime.now(UTC).isoformat(timespec="seconds"),
+        "load": {"start_1min": load_average()},
         **(extra or {}),
         "distributions": installed_distributions(),
     }
@@ -123,7 +151,7 @@ def write_run_metadata(
     text = json.dumps(resolved, indent=2, default=str) + "\n"
     write_text_atomic(run_dir / "config.resolved.json", text)
     env = environment(config_path, json.loads(text), extra)
-    write_text_atomic(run_dir / "environment.json", json.dumps(env, indent=2, default=str) + "\n")
+    write_text_atomic(run_dir / ENVIRONMENT_FILE, json.dumps(env, indent=2, default=str) + "\n")
 
 
 def resolve_config(

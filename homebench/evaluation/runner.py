@@ -45,7 +45,12 @@ from homebench.evaluation.failures import (
 from homebench.evaluation.isolation import Crash, Limits
 from homebench.evaluation.jobs import JobOutcome, read_result, run_describe_job, run_home_job
 from homebench.evaluation.plan import DescribeJob, HomeJob, Plan, make_plan
-from homebench.evaluation.provenance import resolve_config, run_sections, write_run_metadata
+from homebench.evaluation.provenance import (
+    record_load_end,
+    resolve_config,
+    run_sections,
+    write_run_metadata,
+)
 from homebench.evaluation.results import PLAN_FILE, write_plan_index
 from homebench.evaluation.run_folder import check_owner, claim_run_folder, lock_run_folder
 from homebench.evaluation.sources import Source, prepare_sources
@@ -196,6 +201,7 @@ def run_plan(
             write_run_metadata(config, config_path, run_dir, resolved, extra)
             write_plan_index(plan, run_dir)
         outcome = _run_jobs(plan, run_dir, execution, executor, force, show_progress)
+        record_load_end(run_dir, outcome.computed, outcome.reused)
     notes = [note for check in checks.values() if check and (note := check.note())]
     notes += pattern_notes(sources)
     warnings = tuple(database_warnings(sources))

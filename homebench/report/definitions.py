@@ -4,8 +4,8 @@ page (PDF) and section (HTML, Markdown) state them.
 The text restates the docstrings of :mod:`homebench.analysis.metrics`,
 :mod:`~homebench.analysis.return_ratio`, :mod:`~homebench.analysis.statistics`,
 :mod:`~homebench.analysis.comparisons` and :mod:`~homebench.analysis.tables` (bands, flips);
-the run's AHC definition and distance bands are stated here, its other settings (bins, RR step,
-radius) on the title page.
+the run's AHC definition, RR settings and distance bands are stated here, its other settings
+(bins) on the title page.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from homebench.analysis.statistics import (
 )
 from homebench.analysis.tables import FLIP_DEG
 from homebench.config import MetricsConfig
-from homebench.report.tables import AHC_MEANINGS, ahc_header
+from homebench.report.tables import AHC_MEANINGS, ahc_header, rr_reading
 
 METRICS = {
     "AE, angular error (seed 001, eq. 11)": [
@@ -39,12 +39,17 @@ METRICS = {
     ],
     "RR, return ratio (eq. 13, Moeller's step procedure)": [
         "A dummy robot starts at every grid position (the goal included, which succeeds at "
-        "once). All robots repeat: succeed when within the success radius of the goal; fail "
-        "after travelling more than the maximum travel (default: half the grid's perimeter); "
-        "otherwise step a fixed length along the home direction estimated at the grid position "
-        "nearest to the robot. A robot outside the grid is steered by the nearest position on "
-        "the grid; a robot whose nearest position has no estimate fails. Lengths are in grid "
-        "units.",
+        "once). All robots repeat: succeed when within the success radius (grid units: "
+        "multiples of the grid spacing; seed 001: 0.5) of the goal; fail after travelling "
+        "more than the maximum travel (default: half the grid's perimeter); otherwise step a "
+        "fixed length (seed 001: 0.8 grid units) along the home direction estimated at the "
+        "grid position nearest to the robot. A robot outside the grid is steered by the "
+        "nearest position on the grid. A robot whose nearest position has no estimate stops "
+        "there; seed 001's procedure presumes an estimate everywhere and is silent on this, so "
+        "the walk fails by default (metrics.return_ratio.no_estimate: fail), or, with "
+        "'arrived', succeeds when that position is one of the goal's 8 grid neighbours (where "
+        "warping-like methods abstain because the view looks like home) and fails elsewhere. "
+        "The RR table gives per goal the share of walks that ended so.",
         "RR of a goal = share of the starts that reach the goal, the share of start positions "
         "from which following the home vectors leads home. A method's RR is the mean over the "
         "goals whose field covers the grid; a goal with a pair missing has no RR (n/a).",
@@ -118,7 +123,7 @@ def bands_text(edges: tuple[float, ...]) -> str:
 
 
 def _run_settings(metrics: MetricsConfig) -> dict[str, list[str]]:
-    """The AHC definition and distance bands as the run set them."""
+    """The AHC definition, the RR settings and the distance bands as the run set them."""
     return {
         "AHC definitions": [
             "Two AHCs are in the literature: seed 001's eq. 12, the cosine of the mean AE "
@@ -129,6 +134,7 @@ def _run_settings(metrics: MetricsConfig) -> dict[str, list[str]]:
             f"This run's AHC is {AHC_MEANINGS[metrics.ahc.definition]} (headers say "
             f"'{ahc_header('AHC', metrics.ahc)}').",
         ],
+        "Return ratio (RR) settings": [f"This run's RR: {rr_reading(metrics.return_ratio)}."],
         "Distance bands": [
             "The band table gives AHC (both readings), mean AE, the share without an estimate, "
             "rotation error and flips per band of distance between current and goal position "

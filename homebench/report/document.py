@@ -33,6 +33,7 @@ from homebench.report import DEFAULT_MAX_GOALS, reuse
 from homebench.report.appendix import Appendix, run_appendix
 from homebench.report.figure_files import FigureFiles, assemble_pdf
 from homebench.report.grid_report import figures_note, grid_figures, shown_sections
+from homebench.report.host_load import load_note
 from homebench.report.markup import FigureEntry, html_report, markdown_report
 from homebench.report.pages import (
     appendix_pages,
@@ -99,7 +100,7 @@ def _grid_content(
     if run.tables.pairs.empty:
         shown = "; ".join(warnings[:3]) + (" ..." if len(warnings) > 3 else "")
         raise DataError(f"{run.run_dir}: no job results to report on (missing: {shown})")
-    views = report_views(run.tables, run_order(run))
+    views = report_views(run.tables, run_order(run), load_note(run.environment))
     summary = run_summary(run)
     summary["Figures"] = [figures_note(run, max_goals)]
     appendix = run_appendix(run, run.metrics)

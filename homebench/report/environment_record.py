@@ -40,6 +40,16 @@ class _Database(_Record):
     manifest_sha256: str | None = None
 
 
+class _Load(_Record):
+    """The host's 1-min load average as the run call began and ended, and the jobs that call
+    timed and reused (the latter timed in earlier calls); an interrupted call has no end."""
+
+    start_1min: float | None = None
+    end_1min: float | None = None
+    jobs_timed: int | None = None
+    jobs_reused: int | None = None
+
+
 class EnvironmentRecord(_Record):
     """``environment.json``: what a run recorded of where its results come from."""
 
@@ -54,6 +64,7 @@ class EnvironmentRecord(_Record):
     cpu: _Cpu | None = None
     cpu_count: int | None = None
     started: str | None = None
+    load: _Load | None = None  # not recorded before homebench recorded the load
     methods: dict[str, _Method] = {}
     databases: dict[str, _Database] = {}
     overrides: dict[str, Any] | None = None

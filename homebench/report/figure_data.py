@@ -12,7 +12,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from homebench.analysis.metrics import HomeField
-from homebench.analysis.return_ratio import return_ratio
+from homebench.analysis.return_ratio import configured_return_ratio
 from homebench.analysis.tables import goal_fields
 from homebench.config import MetricsConfig
 from homebench.geometry import FloatArray
@@ -115,7 +115,6 @@ def goal_panels(
     """One panel per method for ``goal`` under ``condition``: in the order of ``methods``,
     labels it does not list last (sorted)."""
     chosen = pairs[(pairs["condition"] == condition) & goal.rows(pairs)]
-    rr_config = metrics.return_ratio
     panels = []
     for (_, _, _, method, _, _), field, complete in goal_fields(chosen):
         group = chosen[chosen["method"] == method]
@@ -123,9 +122,7 @@ def goal_panels(
         failed = np.zeros(field.grid.shape, dtype=bool)
         rr = float("nan")
         if complete:
-            result = return_ratio(
-                field, rr_config.rh, rr_config.success_radius, rr_config.max_travel
-            )
+            result = configured_return_ratio(field, metrics.return_ratio)
             rr, failed = result.rr, result.started & ~result.success
         ae = _grid_array(group, field.grid.shape, "ae_deg")
         panels.append(GoalPanel(method, field, tested, ae, rr, failed))

@@ -17,8 +17,10 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import PatchCollection
 from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
+from matplotlib.textpath import TextPath
 from matplotlib.ticker import MaxNLocator
 
 from homebench.geometry import Grid
@@ -35,7 +37,6 @@ from homebench.report.style import (
     MethodStyle,
     legend_below,
     new_figure,
-    wrap_to,
 )
 
 #: Goals drawn on one figure, at most.
@@ -45,8 +46,11 @@ GRID_SIDE_MARGIN = 1.0
 GRID_BOTTOM_MARGIN = 0.9
 #: Widest panel, inches (few methods: more goals per figure instead of larger panels).
 MAX_PANEL_WIDTH = 2.4
-#: Inches above each panel for its title (three lines).
-PANEL_TITLE_HEIGHT = 0.45
+#: Inches above each panel for its title (two lines, :func:`panel_title`).
+PANEL_TITLE_HEIGHT = 0.36
+#: A panel title's font may shrink to this size (points) to fit its panel, no further.
+TITLE_MIN_POINTS = 6.0
+TITLE_POINTS_STEP = 0.5
 #: Arrow length as a share of the grid spacing: from a position's centre, it stays in its
 #: cell, so no arrow leaves the axes (limits half a spacing beyond the grid).
 ARROW_LENGTH = 0.45
@@ -148,10 +152,59 @@ def _frame_axes(ax: Axes, grid: Grid) -> None:
         axis.set_major_locator(MaxNLocator(nbins=4, prune="both"))
 
 
+def text_width(text: str, points: float) -> float:
+    """Width (inches) of ``text`` set in the default font at ``points`` points, measured on
+    its glyphs' outlines (no renderer needed)."""
+    if not text:
+        return 0.0
+    path = TextPath((0.0, 0.0), text, size=points, prop=FontProperties())
+    return float(path.get_extents().width) / 72.0
+
+
+def _wrap_measured(line: str, width: float, points: float) -> list[str]:
+    """``line`` broken at spaces into lines each at most ``width`` inches wide at ``points``
+    (a single word wider than that keeps a line of its own)."""
+    lines: list[str] = []
+    for word in line.split(" "):
+        joined = f"{lines[-1]} {word}" if lines else word
+        if lines and text_width(joined, points) <= width:
+            lines[-1] = joined
+        else:
+            lines.append(word)
+    return lines
+
+
+@dataclass(frozen=True)
+class PanelTitle:
+    """A per-goal panel's title: its ``text`` (lines joined by newlines) and font size
+    (``points``)."""
+
+    text: str
+    points: float
+
+
+def panel_title(
+    label: str,
+    goal: str,
+    detail: str,
+    width: float,
+    points: float = RC_PARAMS["axes.titlesize"],
+) -> PanelTitle:
+    """Two lines, "<label>, goal <goal>" and ``detail``, fitted to ``width`` inches: the font
+    shrinks from ``points`` in steps of TITLE_POINTS_STEP, not below TITLE_MIN_POINTS, until
+    both lines' measured widths fit; a line that still does not fit wraps at its measured
+    width."""
+    lines = [f"{label}, goal {goal}", detail]
+    while points > TITLE_MIN_POINTS and max(text_width(t, points) for t in lines) > width:
+        points = max(TITLE_MIN_POINTS, points - TITLE_POINTS_STEP)
+    wrapped = [part for line in lines for part in _wrap_measured(line, width, points)]
+    return PanelTitle("\n".join(wrapped), points)
+
+
 def _panel_title(ax: Axes, goal: Goal, panel: GoalPanel, extra: str, width: float) -> None:
     rr = "RR n/a" if math.isnan(panel.rr) else f"RR {panel.rr:.2f}"
-    text = f"{panel.label}\ngoal {goal.text}\n{extra}, {rr}"
-    ax.set_title(wrap_to(text, width, RC_PARAMS["axes.titlesize"]), fontsize="medium")
+    title = panel_title(panel.label, goal.text, f"{extra}, {rr}", width)
+    ax.set_title(title.text, fontsize=title.points)
 
 
 def _goal_xy(panel: GoalPanel) -> tuple[float, float]:
@@ -197,7 +250,7 @@ def field_figure(goals: Sequence[GoalPanels], styles: dict[str, MethodStyle]) ->
             _draw_field(ax, panel, styles[panel.label])
             _frame_axes(ax, panel.field.grid)
             n_missing = int(panel.no_estimate.sum())
-            _panel_title(ax, goal, panel, f"{n_missing} without estimate", layout.panel_width)
+            _panel_title(ax, goal, panel, f"{n_missing} no est.", layout.panel_width)
     handles = [
         Line2D([], [], marker="s", ls="", color=GOAL_COLOUR, markersize=5, label="goal"),
         Line2D([], [], marker="s", ls="", color=MISSING_COLOUR, markersize=3,

@@ -14,10 +14,12 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 
+import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
 from homebench.analysis.tables import gives_directions, posed_rows
+from homebench.config import ReturnRatioConfig
 from homebench.report.figure_data import (
     condition_goals,
     goal_panels,
@@ -31,9 +33,11 @@ from homebench.report.heatmaps import (
     heatmap_columns,
     heatmap_figures,
 )
+from homebench.report.host_load import load_note
 from homebench.report.metric_figures import (
     ConditionPanel,
     RRPanel,
+    ahc_bins,
     ahc_figure,
     ahc_pages,
     ahc_range,
@@ -43,7 +47,13 @@ from homebench.report.metric_figures import (
 )
 from homebench.report.run_data import RunData
 from homebench.report.style import MethodStyle, method_styles
-from homebench.report.tables import ahc_header, run_order
+from homebench.report.tables import (
+    DEFAULT_RR,
+    RR_NO_ESTIMATE_MEANINGS,
+    ahc_header,
+    few_goals_note,
+    run_order,
+)
 
 #: Sections of the figures of all conditions side by side (AHC, RR), and of the time per call.
 METRICS_SECTION = "All conditions"
@@ -201,29 +211,73 @@ def _lettered(chunks: Sequence[Sequence[object]], titles: Sequence[str]) -> Iter
         yield f"{_page_note(k, len(chunks))}: {listed}"
 
 
+def _ahc_goal_counts(panels: Sequence[ConditionPanel], centres: np.ndarray) -> list[float]:
+    """The goals each drawn AHC band rests on: per method and bin shown (``centres``, cm)
+    that holds a pair."""
+    rows = pd.concat([panel.rows for panel in panels], ignore_index=True)
+    drawn = rows[(rows["bin"] != "all") & (rows["n"] > 0) & rows["centre_cm"].isin(centres)]
+    return drawn["n_goals"].tolist() if "n_goals" in drawn else []
+
+
+def _rr_goal_counts(panels: Sequence[RRPanel]) -> list[float]:
+    """The goals each drawn mean-RR interval rests on: per panel and method, the goals with
+    an RR."""
+    return [n for panel in panels for n in panel.goals.groupby("method")["rr"].count()]
+
+
+def _caption_note(n_goals: Sequence[float]) -> str:
+    """A caption's sentence on intervals from few goals (:func:`~homebench.report.tables.
+    few_goals_note`) after a space, or "" when it needs none."""
+    note = few_goals_note(n_goals)
+    return f" {note}" if note else ""
+
+
+def _rr_walks(rr: ReturnRatioConfig) -> str:
+    """The RR caption's words on what a goal's RR is: the success radius (grid units) and,
+    when not the default, how a walk ending on a position without an estimate counts."""
+    said = (
+        f"the share of start positions whose walk reaches within {rr.success_radius:g} grid "
+        "units of the goal"
+    )
+    if rr.no_estimate == DEFAULT_RR.no_estimate:
+        return said
+    return (
+        f"{said} (a walk ending on a position without an estimate counts "
+        f"{RR_NO_ESTIMATE_MEANINGS[rr.no_estimate]})"
+    )
+
+
+def _bins_note(centres: np.ndarray) -> str:
+    """The caption's words on the distance bins shown (cm), or ""."""
+    if not len(centres):
+        return ""
+    return f"; distance bins {centres[0]:g} to {centres[-1]:g} cm (up to the farthest pair's bin)"
+
+
 def _metric_figures(
     run: RunData, styles: dict[str, MethodStyle]
 ) -> Iterator[tuple[str, str, Figure]]:
     """(file stem, caption, figure): AHC against distance (the paper's Figure 9) and RR per
     goal (Figure 10), every condition side by side, on one scale each."""
     ahc_panels, rr_panels, titles = _metric_panels(run)
-    limits = ahc_range(run.tables.ahc)
+    limits, centres = ahc_range(run.tables.ahc), ahc_bins(run.tables.ahc)
     chunks = ahc_pages(ahc_panels)
     label = ahc_header("AHC", run.metrics.ahc)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
         caption = (
             f"{label} against the distance between current and goal position{panels}. Lines: "
             "AHC per distance bin; bands: 95 % goal-bootstrap CI; top axis: pairs per bin; AHC "
-            f"axis {limits[0]:g} to {limits[1]:g} in every panel."
+            f"axis {limits[0]:g} to {limits[1]:g} in every panel{_bins_note(centres)}."
+            f"{_caption_note(_ahc_goal_counts(chunk, centres))}"
         )
-        yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label)
-    chunks = rr_pages(rr_panels)
+        yield f"ahc_{k + 1}", caption, ahc_figure(chunk, styles, limits, label, centres)
+    chunks, rr_walks = rr_pages(rr_panels), _rr_walks(run.metrics.return_ratio)
     for k, (chunk, panels) in enumerate(zip(chunks, _lettered(chunks, titles), strict=True)):
         caption = (
-            f"Return ratio (RR) per goal{panels}. Right of the dotted line: each method's mean "
-            "RR over the goals with its 95 % goal-bootstrap CI; n/a: the field does not cover "
-            "the grid (or the images are posed, not on a grid), or the method gives no home "
-            "direction."
+            f"Return ratio (RR) per goal, {rr_walks}{panels}. Right of the dotted line: each "
+            "method's mean RR over the goals with its 95 % goal-bootstrap CI; n/a: the field "
+            "does not cover the grid (or the images are posed, not on a grid), or the method "
+            f"gives no home direction.{_caption_note(_rr_goal_counts(chunk))}"
         )
         yield f"rr_{k + 1}", caption, rr_figure(chunk, styles)
 
@@ -240,7 +294,7 @@ def grid_figures(run: RunData, max_goals: int | None) -> Iterator[SectionFigure]
         yield stem, METRICS_SECTION, caption, fig
     caption = (
         "Time per call, all conditions: describe per image, home per pair (log scale; box: "
-        "quartiles, line: median)."
+        f"quartiles, line: median). {load_note(run.environment)}"
     )
     pairs = run.tables.pairs
     yield "timing", TIMING_SECTION, caption, timing_figure(image_describe_times(pairs), pairs,

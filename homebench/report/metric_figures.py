@@ -112,6 +112,20 @@ def ahc_range(ahc: pd.DataFrame) -> tuple[float, float]:
     return min(0.0, max(-1.0, low)), 1.0
 
 
+def ahc_bins(ahc: pd.DataFrame) -> np.ndarray:
+    """The distance bins (centres, cm, increasing) the AHC figures of a run show: from the
+    first to the last bin of the ``ahc`` table that holds a pair (``n`` > 0) in any condition
+    and method, so the axis follows the pairs' distances (a 5 x 7 grid's stop at 180 cm, not
+    at the default bins' 390 cm); every bin when none holds a pair."""
+    binned = ahc[ahc["bin"] != "all"] if len(ahc) else ahc
+    if binned.empty:
+        return np.array([], dtype=float)
+    centres = binned["centre_cm"].astype(float)
+    held = centres[binned["n"].to_numpy() > 0]
+    shown = centres.between(held.min(), held.max()) if len(held) else centres.notna()
+    return np.unique(centres[shown].to_numpy())
+
+
 def ahc_pages(panels: Sequence[ConditionPanel]) -> list[list[ConditionPanel]]:
     """``panels`` cut into the AHC figures' pages."""
     return pages(panels, CONDITION_COLUMNS * CONDITION_ROWS)
@@ -125,9 +139,12 @@ def _pairs_text(binned: pd.DataFrame) -> tuple[np.ndarray, list[str]]:
     return counts.index.to_numpy(dtype=float), texts
 
 
-def _draw_ahc(ax: Axes, rows: pd.DataFrame, styles: dict[str, MethodStyle]) -> None:
-    """One line per method with its 95 % CI band; pairs per bin on the top axis."""
-    binned = rows[rows["bin"] != "all"]
+def _draw_ahc(
+    ax: Axes, rows: pd.DataFrame, styles: dict[str, MethodStyle], centres: np.ndarray
+) -> None:
+    """One line per method with its 95 % CI band over the bins ``centres`` (cm); pairs per
+    bin on the top axis; the x axis half a bin beyond the first and last centre."""
+    binned = rows[(rows["bin"] != "all") & rows["centre_cm"].isin(centres)]
     drawn = binned[binned["n"] > 0]
     for method, group in drawn.groupby("method", sort=True):
         style = styles[str(method)]
@@ -142,6 +159,9 @@ def _draw_ahc(ax: Axes, rows: pd.DataFrame, styles: dict[str, MethodStyle]) -> N
     top.set_xticks(centres, counts, rotation=90, fontsize=5.5)
     top.tick_params(length=2, pad=1)
     ax.set_xticks(centres)
+    if len(centres):
+        half = (np.diff(centres).min() if len(centres) > 1 else centres[0]) / 2
+        ax.set_xlim(centres[0] - half, centres[-1] + half)
     ax.axhline(0.0, color=NEUTRAL, linewidth=0.6)
     ax.grid(True, alpha=0.3)
 
@@ -158,22 +178,26 @@ def ahc_figure(
     styles: dict[str, MethodStyle],
     limits: tuple[float, float],
     label: str = "AHC",
+    centres: np.ndarray | None = None,
 ) -> Figure:
     """AHC per distance bin, one panel per condition, one line per method with its 95 % CI
     band (``ahc_lo`` to ``ahc_hi``); the pairs per bin (``n``) along the top axis.
 
     ``panels``: rows of :func:`homebench.analysis.tables.ahc_table` each; ``limits``: the
-    y-range of every panel (:func:`ahc_range` of the whole run); ``label``: the AHC axis's.
+    y-range of every panel (:func:`ahc_range` of the whole run); ``label``: the AHC axis's;
+    ``centres``: the bins shown in every panel (cm; default :func:`ahc_bins` of the panels'
+    rows; pass the whole run's).
     """
+    if centres is None:
+        centres = ahc_bins(pd.concat([panel.rows for panel in panels], ignore_index=True))
     fig, axes, outer = _condition_figure(len(panels), CONDITION_COLUMNS, sharex=False)
     width = _panel_width(fig, min(len(panels), CONDITION_COLUMNS))
     methods: set[str] = set()
     for k, (ax, panel, (first, bottom)) in enumerate(zip(axes, panels, outer, strict=True)):
-        _draw_ahc(ax, panel.rows, styles)
+        _draw_ahc(ax, panel.rows, styles, centres)
         methods |= set(panel.rows["method"])
         ax.set_ylim(*limits)
-        binned = panel.rows[panel.rows["bin"] != "all"]
-        _thin_ticks(ax, np.sort(binned["centre_cm"].unique().astype(float)), width)
+        _thin_ticks(ax, centres, width)
         ax.set_title(f"{_letter(k)} {panel.title}", loc="left")
         if bottom:
             ax.set_xlabel("distance C to H [cm]")

@@ -121,9 +121,9 @@ def run_summary(run: RunData) -> dict[str, list[str]]:
             f"{ahc.bin_stop_cm:g} cm in steps of {ahc.bin_step_cm:g} cm; pairs without "
             f"estimate: {ahc.missing}",
             f"distance bands: {bands_text(metrics.band_edges_m)}",
-            f"RR: step {rr.rh:g}, success radius {rr.success_radius:g}, max travel "
-            f"{'half the perimeter' if rr.max_travel is None else f'{rr.max_travel:g}'} "
-            "(grid units)",
+            f"RR (grid units): step {rr.rh:g}, success radius {rr.success_radius:g}, max travel "
+            f"{'half the perimeter' if rr.max_travel is None else f'{rr.max_travel:g}'}; "
+            f"no_estimate: {rr.no_estimate}",
             f"catchment: {'yes' if metrics.catchment else 'no'}",
             f"what the metrics and intervals mean: '{DEFINITIONS_TITLE}', after the figures",
         ],

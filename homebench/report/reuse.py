@@ -23,8 +23,10 @@ from homebench import __version__
 from homebench.fileio import write_text_atomic
 
 KEY_FILE = "report-inputs.json"
-#: Fields of ``environment.json`` that say which call wrote it, not what the run holds.
-STAMPS = ("started", "command")
+#: Fields of ``environment.json`` that say which call wrote it, not what the run holds (the
+#: host's load changes with every call, even one that times no job: a report kept then still
+#: shows the load of the call that timed its jobs).
+STAMPS = ("started", "command", "load")
 #: Libraries whose version can change a report's bytes.
 LIBRARIES = ("matplotlib", "numpy", "pandas", "pillow", "fonttools")
 SKIPPED = ("features",)

@@ -5,7 +5,8 @@ Views of a run's tables (``homebench.evaluation.results``): the headline (the su
 columns: AHC beside the AHC with a missing estimate as 90 deg and the share without an
 estimate, so that a method that abstains does not rank above its homing; also printed by
 ``homebench run``), the metrics per distance band, the method x condition summary, the return
-ratio per goal (seed 001, Figure 10 as a table), the AHC per distance bin (Figure 9 as a table)
+ratio per goal (seed 001, Figure 10 as a table, with each method's share of walks ended on a
+position without an estimate), the AHC per distance bin (Figure 9 as a table)
 and the paired comparisons of the methods. An AHC header names the run's AHC definition when it
 is not the default (:func:`ahc_header`). Rows follow the run's config: conditions, then
 methods, in the order the config lists them (:class:`RowOrder`).
@@ -32,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from homebench.analysis.tables import FLIP_DEG, RunTables
-from homebench.config import AhcConfig
+from homebench.config import AhcConfig, ReturnRatioConfig
 from homebench.fileio import write_text_atomic
 from homebench.report.run_data import RunData
 
@@ -287,6 +288,27 @@ COMPARED = ("mean_ae_deg", "ahc", "rr")
 INTERVAL_NOTE = (
     "[lo, hi]: 95 % interval of a bootstrap over goals (none with a single goal)."
 )  # fmt: skip
+#: Intervals from fewer goals than this get a visible note (:func:`few_goals_note`).
+FEW_GOALS = 5
+
+
+def few_goals_note(n_goals: Iterable[float]) -> str:
+    """The note under a table or in a caption whose intervals rest on ``n_goals`` goals each
+    (one count per interval; NaN and single goals, which have no interval, ignored): "" when
+    every interval rests on FEW_GOALS goals or more."""
+    counts = [int(n) for n in n_goals if not pd.isna(n) and n >= 2]
+    few = sorted({n for n in counts if n < FEW_GOALS})
+    if not few:
+        return ""
+    which = "The" if len(few) == len(set(counts)) else "Some"
+    rest = f"{few[0]}" if len(few) == 1 else f"{few[0]} to {few[-1]}"
+    return (
+        f"{which} intervals here rest on {rest} goals, fewer than {FEW_GOALS}: a bootstrap over "
+        "so few goals cannot reach beyond their values (with 3 goals it covers about 75 % "
+        "whatever its level), so read them as rough ranges."
+    )
+
+
 SIGNIFICANCE_NOTE = (
     f"the best value of its condition, and better than every other method of the condition "
     f"in a goal-level sign-flip test (p < {ALPHA:g}, Holm-adjusted across the run's "
@@ -301,6 +323,31 @@ AHC_MEANINGS = {
     "cos_mean_ae": "the cosine of the mean AE (seed 001, eq. 12)",
     "mean_cos": "the mean of cos(AE) (as Vardy & Moeller report it)",
 }
+#: The RR settings of a run that names none, and how each reading of
+#: ``metrics.return_ratio.no_estimate`` treats a walk that ends on a position without an
+#: estimate (:data:`homebench.config.RRNoEstimate`).
+DEFAULT_RR = ReturnRatioConfig()
+RR_NO_ESTIMATE_MEANINGS = {
+    "fail": "as a failure (metrics.return_ratio.no_estimate: fail, the default: seed 001's "
+    "step procedure is silent on abstentions)",
+    "arrived": "as an arrival when that position is one of the goal's 8 grid neighbours, a "
+    "failure elsewhere (metrics.return_ratio.no_estimate: arrived)",
+}
+
+
+def rr_reading(rr: ReturnRatioConfig = DEFAULT_RR) -> str:
+    """The run's RR settings in words, every length with its unit (grid units): "steps of 0.8
+    grid units (multiples of the grid spacing), success radius 0.5 grid units, ..."."""
+    travel = (
+        "half the grid's perimeter" if rr.max_travel is None else f"{rr.max_travel:g} grid units"
+    )
+    return (
+        f"steps of {rr.rh:g} grid units (multiples of the grid spacing), success radius "
+        f"{rr.success_radius:g} grid units, max travel {travel}; a walk that ends on a position "
+        f"without an estimate counts {RR_NO_ESTIMATE_MEANINGS[rr.no_estimate]}"
+    )
+
+
 #: The header of the AHC with a missing estimate as 90 deg in the console, where the
 #: headline's is too wide.
 SHORT_AHC90 = "AHC90"
@@ -327,15 +374,23 @@ MEANINGS = {
 }
 
 
-def metrics_note(headers: dict[str, str], ahc: AhcConfig = DEFAULT_AHC) -> str:
+def metrics_note(
+    headers: dict[str, str], ahc: AhcConfig = DEFAULT_AHC, rr: ReturnRatioConfig = DEFAULT_RR
+) -> str:
     """What the metric columns of a view are, in its order: ``headers``, source -> header of
-    the columns it shows; ``ahc``, the run's AHC settings."""
+    the columns it shows; ``ahc``, the run's AHC settings; ``rr``, its RR settings (their
+    reading of an abstention said when it is not the default)."""
     kept = (
         "over the pairs with an estimate (the paper's reading)"
         if ahc.missing == "exclude"
         else "with a missing estimate as 90 deg (metrics.ahc.missing)"
     )
     meanings = {**MEANINGS, "ahc": f"{AHC_MEANINGS[ahc.definition]}, {kept}"}
+    if rr.no_estimate != DEFAULT_RR.no_estimate:
+        meanings["rr"] = (
+            f"{MEANINGS['rr']}; a walk that ends on a position without an estimate counts "
+            f"{RR_NO_ESTIMATE_MEANINGS[rr.no_estimate]}"
+        )
     said = [f"{header}: {meanings[source]}" for source, header in headers.items()
             if source in meanings]  # fmt: skip
     missing = "--: no value (a method that gives no home direction has no AE, AHC or RR)."
@@ -378,6 +433,13 @@ BAND_COLUMNS = {
     "rotation_flip_share": "rotation flips [%]",
 }
 BAND_INTERVALS = ("ahc", "no_estimate_share", "mean_ae_deg")
+
+
+def _few_goals(table: pd.DataFrame) -> tuple[str, ...]:
+    """:func:`few_goals_note` of a table's ``n_goals`` column, as a tuple of notes (none when
+    it needs no note or has no such column)."""
+    note = few_goals_note(table["n_goals"]) if "n_goals" in table.columns else ""
+    return (note,) if note else ()
 
 
 def swept(table: pd.DataFrame) -> list[str]:
@@ -493,6 +555,7 @@ def _summary_columns(
     ahc: AhcConfig,
     notes: tuple[str, ...] = (),
     grouped: bool = False,
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> TableView:
     """A view of the summary's rows in ``order`` (swept world, condition, method) and its
     columns ``headers`` (:func:`_metric_columns`), significantly best cells (``comparisons``:
@@ -503,7 +566,8 @@ def _summary_columns(
     marked = {(row, columns.shown[column])
               for row, column in significant_cells(summary, comparisons)
               if column in columns.shown}  # fmt: skip
-    notes = (INTERVAL_NOTE, metrics_note(columns.shown, ahc), *notes)
+    few = few_goals_note(summary["n_goals"]) if "n_goals" in summary else ""
+    notes = (INTERVAL_NOTE, *([few] if few else []), metrics_note(columns.shown, ahc, rr), *notes)
     return make_view(name, title, columns.frame, columns.digits, columns.bounds,
                      frozenset(marked), SIGNIFICANCE_NOTE, notes, grouped)  # fmt: skip
 
@@ -513,15 +577,20 @@ def summary_view(
     order: RowOrder,
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
+    timing_note: str = "",
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> TableView:
     """Method x condition summary (per swept style) in ``order``: goals, pairs, share without
     estimate, AE, rotation error and flips, AHC (the paper's and with a missing estimate as
-    90 deg; ``ahc``: the run's AHC settings), RR, catchment, times; each metric with its
-    interval; significantly best cells (``comparisons``: the run's
+    90 deg; ``ahc``: the run's AHC settings), RR, catchment, times (``timing_note``, the
+    host's load while they were measured, under the table); each metric with its interval;
+    significantly best cells (``comparisons``: the run's
     :func:`~homebench.analysis.tables.method_comparisons`) marked."""
     headers = {source: header for source, (header, _, _) in SUMMARY_COLUMNS.items()}
     title = "Summary per condition and method: estimate [95 % interval]"
-    return _summary_columns("summary", title, summary, order, comparisons, headers, None, ahc)
+    notes = (timing_note,) if timing_note else ()
+    return _summary_columns("summary", title, summary, order, comparisons, headers, None, ahc,
+                            notes, rr=rr)  # fmt: skip
 
 
 def headline_view(
@@ -530,18 +599,22 @@ def headline_view(
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
     console: bool = False,
+    timing_note: str = "",
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> TableView:
     """The summary's HEADLINE_COLUMNS (AHC, AHC with a missing estimate as 90 deg and the
     share without estimate beside it, RR, mean AE, rotation error and flips, home time),
     HEADLINE_INTERVALS with their interval, marks as in :func:`summary_view`: the report's
     first table; ``console``: the narrower CONSOLE_COLUMNS, CONSOLE_INTERVALS alone with their
-    interval (the summary ``homebench run`` prints)."""
+    interval (the summary ``homebench run`` prints); ``timing_note``: the host's load while
+    the times were measured, under the table; ``rr``: the run's RR settings."""
     title = "Results per condition and method: estimate [95 % interval]"
     headers, intervals = (
         (CONSOLE_COLUMNS, CONSOLE_INTERVALS) if console else (HEADLINE_COLUMNS, HEADLINE_INTERVALS)
     )
+    notes = (HEADLINE_NOTE, *((timing_note,) if timing_note else ()))
     return _summary_columns("headline", title, summary, order, comparisons, headers, intervals,
-                            ahc, (HEADLINE_NOTE,), grouped=True)  # fmt: skip
+                            ahc, notes, grouped=True, rr=rr)  # fmt: skip
 
 
 def band_view(bands: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC) -> TableView:
@@ -558,6 +631,7 @@ def band_view(bands: pd.DataFrame, order: RowOrder, ahc: AhcConfig = DEFAULT_AHC
     )
     notes = (
         INTERVAL_NOTE,
+        *_few_goals(bands),
         metrics_note(columns.shown, ahc),
         "Each band's metrics are over its own pairs, so a method that homes well near the "
         "goal and fails far from it is not hidden in one mean over every distance.",
@@ -577,15 +651,36 @@ def _pivot(
     return order.sort(wide[methods].reset_index()), methods
 
 
-def rr_by_goal_view(goals: pd.DataFrame, order: RowOrder) -> TableView:
-    """Return ratio per condition and goal, one column per method (Figure 10 as a table)."""
+#: The rr_by_goal column of a method's share of RR walks ended on a position without an
+#: estimate.
+RR_ENDED = "{} ended on no est. [%]"
+
+
+def rr_by_goal_view(
+    goals: pd.DataFrame, order: RowOrder, rr: ReturnRatioConfig = DEFAULT_RR
+) -> TableView:
+    """Return ratio per condition and goal, one column per method (Figure 10 as a table),
+    then per method the share of the goal's RR walks that ended on a position without an
+    estimate (RR_ENDED; ``rr_no_estimate_share`` of the goal table, in %; absent from goal
+    tables written before it, then NaN); the notes say the run's RR settings (``rr``)."""
     factors = swept(goals)
-    wide, methods = _pivot(goals, [*factors, "condition", "goal_i", "goal_j"], "rr", order)
+    index = [*factors, "condition", "goal_i", "goal_j"]
+    wide, methods = _pivot(goals, index, "rr", order)
+    if "rr_no_estimate_share" not in goals.columns:
+        goals = goals.assign(rr_no_estimate_share=math.nan)
+    ended = _pivot(goals, index, "rr_no_estimate_share", order)[0][methods] * 100.0
+    ended.columns = [RR_ENDED.format(m) for m in methods]
     goal = [f"({i}, {j})" for i, j in zip(wide["goal_i"], wide["goal_j"], strict=True)]
     frame = pd.concat([wide[[*factors, "condition"]], pd.Series(goal, name="goal (i, j)"),
-                       wide[methods]], axis=1)  # fmt: skip
+                       wide[methods], ended], axis=1)  # fmt: skip
     title = "Return ratio per goal (share of start positions that reach the goal)"
-    return make_view("rr_by_goal", title, frame, dict.fromkeys(methods, FIXED3))
+    notes = (
+        f"RR: {rr_reading(rr)}.",
+        f"{RR_ENDED.format('<method>')}: the goal's RR walks that ended on a position without "
+        "an estimate.",
+    )
+    digits = {**dict.fromkeys(methods, FIXED3), **dict.fromkeys(ended.columns, FIXED1)}
+    return make_view("rr_by_goal", title, frame, digits, notes=notes)
 
 
 def ahc_by_distance_view(
@@ -612,7 +707,8 @@ def ahc_by_distance_view(
         f"{name} by distance between current and goal position (bin centres): "
         f"{name} [95 % interval]"
     )
-    return make_view("ahc_by_distance", title, frame, digits, bounds, notes=(INTERVAL_NOTE,))
+    notes = (INTERVAL_NOTE, *_few_goals(binned))
+    return make_view("ahc_by_distance", title, frame, digits, bounds, notes=notes)
 
 
 def _oriented(comparisons: pd.DataFrame, order: RowOrder) -> pd.DataFrame:
@@ -661,23 +757,25 @@ def comparisons_view(
         "p goal (Holm): sign-flip test over goals; p pair test (Holm): Wilcoxon signed-rank "
         "over pairs (AE, AHC) or McNemar over starts (RR), which ignore that pairs cluster by "
         "goal; Holm-adjusted across the run's comparisons (within each style).",
+        *_few_goals(oriented),
     )
     bounds = {"B - A": ends} if ends else {}
     return make_view("comparisons", title, frame, digits, bounds, notes=notes)
 
 
-def report_views(tables: RunTables, order: RowOrder) -> list[TableView]:
+def report_views(tables: RunTables, order: RowOrder, timing_note: str = "") -> list[TableView]:
     """The report tables of a run in ``order``, the headline first, then the distance bands
     (none when the run has no results; no comparisons with a single method, no bands in
-    tables made without them)."""
+    tables made without them); ``timing_note`` (the host's load while the times were
+    measured) under the tables with timing columns, the headline and the summary."""
     if tables.pairs.empty:
         return []
-    comparisons, ahc = tables.comparisons, tables.metrics.ahc
+    comparisons, ahc, rr = tables.comparisons, tables.metrics.ahc, tables.metrics.return_ratio
     views = [
-        headline_view(tables.summary, order, comparisons, ahc),
+        headline_view(tables.summary, order, comparisons, ahc, timing_note=timing_note, rr=rr),
         *([band_view(tables.bands, order, ahc)] if len(tables.bands) else []),
-        summary_view(tables.summary, order, comparisons, ahc),
-        rr_by_goal_view(tables.goals, order),
+        summary_view(tables.summary, order, comparisons, ahc, timing_note, rr),
+        rr_by_goal_view(tables.goals, order, rr),
         ahc_by_distance_view(tables.ahc, order, ahc),
     ]
     return views + ([comparisons_view(comparisons, order, ahc)] if len(comparisons) else [])
@@ -717,12 +815,13 @@ def console_summary(
     order: RowOrder,
     comparisons: pd.DataFrame,
     ahc: AhcConfig = DEFAULT_AHC,
+    rr: ReturnRatioConfig = DEFAULT_RR,
 ) -> str:
     """The summary ``homebench run`` prints: the headline table's console view (AHC, AHC with
-    a missing estimate as 90 deg, share without estimate, RR, mean AE, home time; ``ahc``: the
-    run's AHC settings), within CONSOLE_WIDTH columns for the usual condition and method
-    names."""
-    return to_text(headline_view(summary, order, comparisons, ahc, console=True))
+    a missing estimate as 90 deg, share without estimate, RR, mean AE, home time; ``ahc``,
+    ``rr``: the run's AHC and RR settings), within CONSOLE_WIDTH columns for the usual
+    condition and method names."""
+    return to_text(headline_view(summary, order, comparisons, ahc, console=True, rr=rr))
 
 
 def _columns(columns: list[list[str]], alignment: list[str]) -> list[str]:
