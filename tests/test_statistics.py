@@ -262,3 +262,21 @@ def test_compare_rr_goal_level_and_mcnemar():
     assert found.p_goal == 1.0  # one goal differs: every sign pattern gives |sum| 0.5
     assert found.rr.lo == pytest.approx(-0.5) and found.rr.hi == 0.0
     assert found.rr.n_goals == 3
+
+
+def test_percentile_intervals_use_the_finite_values_only_and_warn_of_nothing() -> None:
+    """An infinite replicate (a ratio over an empty resample) is no order statistic: -inf
+    sorted first shifted every quantile, and inf - inf printed numpy's RuntimeWarning on the
+    findings console."""
+    import warnings
+
+    from homebench.analysis.statistics import percentile_intervals
+
+    finite = np.arange(1.0, 101.0)
+    values = np.stack([np.r_[-np.inf, finite, np.inf], np.r_[np.nan, finite, np.nan]], axis=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        lo, hi = percentile_intervals(values, [10, 10])
+        lo_all_inf, _ = percentile_intervals(np.full((5, 1), -np.inf), [10])
+    assert lo[0] == lo[1] and hi[0] == hi[1]
+    assert np.isnan(lo_all_inf[0])

@@ -182,7 +182,8 @@ def percentile_intervals(
     a metric over ``n_goals`` (k,) goals: lo and hi, shape (k,). A column with fewer than 2
     goals or no finite value gets NaN. Quantiles interpolate linearly between order
     statistics of the finite values (numpy's default method)."""
-    v = np.sort(np.asarray(values, dtype=np.float64), axis=0)  # NaN last
+    v = np.asarray(values, dtype=np.float64)
+    v = np.sort(np.where(np.isfinite(v), v, np.nan), axis=0)  # +-inf as NaN: last, unused
     last = np.isfinite(v).sum(axis=0) - 1
     goals = np.asarray(n_goals)
     valid = (goals >= 2) & (last >= 0)
