@@ -244,6 +244,15 @@ def test_a_run_over_a_symlink_loop(tmp_path: Path, database: Path) -> None:
     assert _no_jobs_ran(tmp_path / "run")
 
 
+def _verify_or_run(command: str, tmp_path: Path, database: Path) -> tuple[int, str]:
+    """``data verify`` of ``database`` or a run on it (``command``): exit code and stderr."""
+    if command == "verify":
+        code, _, err = _invoke("data", "verify", str(database))
+        return code, err
+    result = _run(tmp_path, database)
+    return result.exit_code, result.stderr
+
+
 @pytest.mark.parametrize("command", ["verify", "run"])
 def test_an_image_that_is_a_symlink_loop_is_named(
     tmp_path: Path, database: Path, command: str
@@ -252,11 +261,7 @@ def test_an_image_that_is_a_symlink_loop_is_named(
     victim = database.parent / "pano" / "p2-3.png"
     victim.unlink()
     victim.symlink_to(victim.name)
-    if command == "verify":
-        code, _, err = _invoke("data", "verify", str(database))
-    else:
-        result = _run(tmp_path, database)
-        code, err = result.exit_code, result.stderr
+    code, err = _verify_or_run(command, tmp_path, database)
     assert code == 2
     assert _one_error_line(err) == (
         f"homebench: error: {victim}: cannot open the image (Too many levels of symbolic links)"
@@ -274,11 +279,7 @@ def test_an_image_that_is_no_file_is_called_what_it_is(
     victim = database.parent / "pano" / "p2-3.png"
     victim.unlink()
     make(victim)
-    if command == "verify":
-        code, _, err = _invoke("data", "verify", str(database))
-    else:
-        result = _run(tmp_path, database)
-        code, err = result.exit_code, result.stderr
+    code, err = _verify_or_run(command, tmp_path, database)
     assert code == 2
     assert _one_error_line(err) == f"homebench: error: {victim}: the image is {kind}, not a file"
 
