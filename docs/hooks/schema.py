@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal, get_args, get_origin
 
+import yaml
 from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 from typing_extensions import is_typeddict
@@ -64,7 +65,7 @@ def type_text(hint: Any, link: bool = True) -> str:
     if origin is Annotated:
         return type_text(args[0], link)
     if origin is Literal:
-        return " or ".join(f"`{choice!r}`" for choice in args)
+        return " or ".join(f"`{choice}`" for choice in args)
     if origin in _UNIONS:
         return " or ".join("`null`" if a is type(None) else type_text(a, link) for a in args)
     if origin in (list, tuple, set, frozenset):
@@ -111,12 +112,26 @@ def _bounds(hint: Any, metadata: list[Any]) -> str:
     return "; ".join(dict.fromkeys(p for p in parts if p))
 
 
+def _yaml_value(value: Any) -> Any:
+    """``value`` as plain data YAML writes: tuples as lists, paths as text, models as dicts."""
+    if isinstance(value, BaseModel):
+        return value.model_dump(mode="json", exclude_defaults=True)
+    if isinstance(value, list | tuple):
+        return [_yaml_value(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _yaml_value(v) for k, v in value.items()}
+    return str(value) if isinstance(value, Path) else value
+
+
 def _default_text(value: Any) -> str:
+    """A default as a config writes it (``null``, ``[]``, ``{method: klt-sector}``)."""
     if isinstance(value, BaseModel):
         return f"its section's defaults ({type(value).__name__})"
-    if isinstance(value, Path):
-        value = str(value)
-    return f"`{value!r}`"
+    try:
+        text = yaml.safe_dump(_yaml_value(value), default_flow_style=True, width=1000)
+    except yaml.YAMLError:
+        return f"`{value!r}`"
+    return f"`{text.removesuffix(chr(10)).removesuffix('...').strip()}`"
 
 
 def comments(cls: type) -> dict[str, str]:
