@@ -1,7 +1,7 @@
 """The tutorials run as a reader runs them: every ``$`` line of their console blocks in a
 process of its own, in a fresh folder per page (tests/console_blocks.py), its output checked for
 the lines the page shows. The pages share one data cache, so the small room they home in is
-generated once.
+generated once (:func:`data_cache`).
 
 ``$ pip install -e DIR`` is the one step not run as written: it would change the environment
 every other test runs in. An editable install is a distribution record and the project's folder
@@ -27,7 +27,14 @@ PAGES = sorted(TUTORIALS.glob("*.md"))
 
 @pytest.fixture(scope="module")
 def data_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return tmp_path_factory.mktemp("docs-data")
+    """One data cache for every page of this test run, shared by pytest-xdist's workers too
+    (their base folders are siblings): the room is generated once (homebench generates into a
+    temporary folder and renames it into place, so two workers generating it at once is safe)."""
+    run = os.environ.get("PYTEST_XDIST_TESTRUNUID")
+    base = tmp_path_factory.getbasetemp()
+    folder = base.parent / f"docs-data-{run}" if run else base / "docs-data"
+    folder.mkdir(exist_ok=True)
+    return folder
 
 
 def test_every_tutorial_has_commands_to_run() -> None:
