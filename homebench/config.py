@@ -286,8 +286,9 @@ class Check(_Strict):
 
 class RunConfig(_Strict):
     """A grid run (no ``kind``, or ``kind: grid``): every (goal, current) pair of its databases'
-    grids, for each condition and method entry. A key's comment is its meaning in the
-    documentation's config reference."""
+    grids, for each condition and method entry."""
+
+    # A key's comment is its meaning in the documentation's config reference.
 
     name: str = "run"  # the run's name in tables and reports
     output: Path  # the run folder (relative to the current directory)

@@ -57,10 +57,15 @@ def methods_page() -> str:
 
 
 def _schema_page(title: str, intro: str, roots: list[type], source: str) -> str:
-    models = schema.reachable(roots)
-    return "\n".join(
-        [f"# {title}", "", _SOURCE.format(source), intro, "", *map(schema.section, models)]
-    )
+    """A page of the models reachable from ``roots``, each root followed by its module's
+    docstring (its example and the reasons for its defaults)."""
+    parts = [f"# {title}", "", _SOURCE.format(source), intro, ""]
+    for model in schema.reachable(roots):
+        parts.append(schema.section(model))
+        if model in roots:
+            module = model.__module__
+            parts += [f"*From `{module}`:*", "", schema.module_doc(model), ""]
+    return "\n".join(parts)
 
 
 def config_page() -> str:

@@ -217,13 +217,25 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|").replace("\n", " ")
 
 
-def plain_doc(cls: type) -> str:
-    """A class docstring as Markdown: reStructuredText roles as code."""
-    doc = inspect.cleandoc(cls.__doc__ or "") if cls.__doc__ else ""
-    if doc.startswith(f"{cls.__name__}(") or cls.__doc__ == BaseModel.__doc__:
-        return ""  # pydantic's or dataclasses' generated docstring
-    doc = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", doc)
+def markdown_doc(doc: str) -> str:
+    """A docstring as Markdown: reStructuredText roles and literals as code, a literal block's
+    ``::`` as ``:`` (its indented lines are a Markdown code block already)."""
+    doc = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", inspect.cleandoc(doc))
+    doc = re.sub(r"::$", ":", doc, flags=re.M)
     return re.sub(r"``([^`]+)``", r"`\1`", doc)
+
+
+def plain_doc(cls: type) -> str:
+    """A class docstring as Markdown (:func:`markdown_doc`)."""
+    if not cls.__doc__ or cls.__doc__.startswith(f"{cls.__name__}("):
+        return ""  # no docstring, or the one dataclasses generate
+    return "" if cls.__doc__ == BaseModel.__doc__ else markdown_doc(cls.__doc__)
+
+
+def module_doc(cls: type) -> str:
+    """The docstring of the module that defines ``cls``, as Markdown."""
+    doc = getattr(inspect.getmodule(cls), "__doc__", None)
+    return markdown_doc(doc) if doc else ""
 
 
 def section(cls: type, level: int = 2) -> str:
