@@ -1,9 +1,10 @@
-"""The README's Brains on Board section, run as a user runs it (tests/console_blocks.py: every
-``$`` line of its console blocks a shell command in a process of its own, a ``$ cat FILE`` line
-a file the test writes, any other line text the output must hold), on folders written the way
-BoB's tools write them (tests/bob_folders.py: a grid labelled as BoB's grid recorder labels it,
-a route whose camera faced the way it travelled, laid out by BoB's renderer's formula) in place
-of ``~/data/ant_grid`` and ``~/data/ant_route``."""
+"""The Brains on Board section of the documentation's databases page (the README's until it is
+slimmed down), run as a user runs it (tests/console_blocks.py: every ``$`` line of its console
+blocks a shell command in a process of its own, a ``$ cat FILE`` line a file the test writes, any
+other line text the output must hold), on folders written the way BoB's tools write them
+(tests/bob_folders.py: a grid labelled as BoB's grid recorder labels it, a route whose camera
+faced the way it travelled, laid out by BoB's renderer's formula) in place of
+``~/data/ant_grid`` and ``~/data/ant_route``."""
 
 from __future__ import annotations
 
@@ -13,13 +14,13 @@ import pytest
 from bob_folders import bend_points, write_recorder_grid, write_route
 from console_blocks import Step, console_steps, run_steps, section, user_env
 
-README = Path(__file__).resolve().parents[1] / "README.md"
-SECTION = ("### Brains on Board image databases", "### Manifest schema")
+PAGE = Path(__file__).resolve().parents[1] / "docs" / "guide" / "databases.md"
+SECTION = ("## Brains on Board image databases", "## Manifest schema")
 
 
 def section_steps() -> list[Step]:
-    """The steps of every console block of the README's Brains on Board section."""
-    return console_steps(section(README.read_text(), *SECTION))
+    """The steps of every console block of the page's Brains on Board section."""
+    return console_steps(section(PAGE.read_text(), *SECTION))
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +45,7 @@ def test_every_command_of_the_bob_section_runs_as_shown(
 
 
 def _located(text: str, folders: dict[str, Path]) -> str:
-    """``text`` with the README's folders replaced by the test's."""
+    """``text`` with the page's folders replaced by the test's."""
     for name, folder in folders.items():
         text = text.replace(name, str(folder))
     return text
