@@ -481,7 +481,7 @@ class Manifest(_Strict):
         if isinstance(data, dict) and "heading_deg" not in data:
             raise ValueError(
                 "heading_deg is required: the world direction (deg, ccw from the grid's +x "
-                "axis) every image faces; Vardy's Bielefeld sets and the README's example "
+                "axis) every image faces; Vardy's Bielefeld sets and the guide's example "
                 "use 90.0 (images facing +y), generated worlds 0.0"
             )
         return data
