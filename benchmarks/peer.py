@@ -23,12 +23,13 @@ elevation 0 (0 = top row's centre); ``REPEATS``: timed passes over the currents 
 untimed pass; the images: 8-bit PGM panoramas, columns counter-clockwise (homebench's canonical
 order, so beta = alpha - psi + pi). It prints one line ``pair K ALPHA PSI`` per current
 (radians), then ``cpu_ms_per_pair X wall_ms_per_pair Y`` over the timed passes. The figures in
-the README come from a driver with the settings of WarpingSIMD's ``warpingSIMDTest.C``: 96 x 96
-steps, 9 scale planes up to 2, NSAD on edge-filtered images (``firstPhaseNSAD2``, pixel scale
-16, post scale 200), an 8-bit scale-plane stack summed into 16-bit match values, nearest-row
-magnification, the XPAY / PARX search loops, rho up to 1 in 20 steps for 2D-warping. The peer
-reads either homebench's band (``band``: the 16 rows from -15 to +15 deg that homebench's
-methods read, rounded to 8 bits) or the whole panorama (``full``: 72 rows).
+docs/measured/speed.md come from a driver with the settings of WarpingSIMD's
+``warpingSIMDTest.C``: 96 x 96 steps, 9 scale planes up to 2, NSAD on edge-filtered images
+(``firstPhaseNSAD2``, pixel scale 16, post scale 200), an 8-bit scale-plane stack summed into
+16-bit match values, nearest-row magnification, the XPAY / PARX search loops, rho up to 1 in 20
+steps for 2D-warping. The peer reads either homebench's band (``band``: the 16 rows from -15 to
++15 deg that homebench's methods read, rounded to 8 bits) or the whole panorama (``full``: 72
+rows).
 """
 
 from __future__ import annotations

@@ -283,33 +283,26 @@ def _open_database(database: str, path: Path | None) -> Any:
 # --------------------------------------------------------------------------- methods and runs
 
 
-#: What ``homebench methods`` says of the entry-level compass, before the methods.
-COMPASS_LISTING = """\
-Every method entry also takes:
-    compass = 'none' (one of none | visual | truth)
-        How the current view is aligned with the goal's before the method sees it (grid, route
-        and closed-loop configs). none: as stored (a grid database taken at one heading; in the
-        robot experiments the robot's own heading). visual: turned back by this visual
-        compass's estimate (the RIDF minimum). truth: turned back by the true heading change in
-        whole columns, an ideal compass.
-        [reading: the papers of alv, snapshot, block-matching and mfdid align their views with
-         an external compass: none on a grid database, truth for a robot]
-"""
-
-
 @main.command()
-def methods() -> None:
-    """List the registered homing methods: each parameter's type, default and meaning, and
-    where it departs from (an opt-in option) or reads (an ambiguous passage of) the paper."""
+@click.argument("name", required=False)
+@click.option(
+    "--format", "fmt", type=click.Choice(["text", "md", "json"]), default="text",
+    show_default=True, help="text for the terminal, md (Markdown) or json (stable keys).",
+)  # fmt: skip
+def methods(name: str | None, fmt: str) -> None:
+    """List the registered homing methods, one line each; with NAME, that method's parameters:
+    type, default, bounds, meaning and where it departs from (an opt-in option) or reads (an
+    ambiguous passage of) its paper, and the paper."""
     from homebench.methods import registry
-    from homebench.methods.params import method_listing
+    from homebench.methods.cards import card, render_card, render_listing
 
+    if name is None:
+        cards = [card(n, cls) for n, cls in registry.available().items()]
+        text = render_listing(cards, registry.broken(), fmt)  # type: ignore[arg-type]
+    else:
+        text = render_card(card(name, registry.get(name)), fmt)  # type: ignore[arg-type]
     try:
-        click.echo(COMPASS_LISTING)
-        for name, cls in registry.available().items():
-            click.echo("\n".join(method_listing(name, cls)))
-        for name, reason in registry.broken().items():
-            click.echo(f"{name} (broken plugin): {reason}")
+        click.echo(text)
         sys.stdout.flush()
     except BrokenPipeError:  # `homebench methods | head`: the reader has all it wants
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no error at exit

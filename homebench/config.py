@@ -285,23 +285,31 @@ class Check(_Strict):
 
 
 class RunConfig(_Strict):
-    name: str = "run"
-    output: Path
+    """A grid run (no ``kind``, or ``kind: grid``): every (goal, current) pair of its databases'
+    grids, for each condition and method entry."""
+
+    # A key's comment is its meaning in the documentation's config reference.
+
+    name: str = "run"  # the run's name in tables and reports
+    output: Path  # the run folder (relative to the current directory)
     seed: int = Field(0, ge=0)
-    jobs: int = 1
-    job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S
-    worker_memory_mb: int | None = Field(None, ge=1024)  # None: physical memory / workers
+    jobs: int = 1  # parallel workers (-1: all cores; homebench run --jobs overrides it)
+    job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a job running longer fails; null: never
+    # each worker's address-space limit; None: physical memory / (workers + 1)
+    worker_memory_mb: int | None = Field(None, ge=1024)
+    # alias -> a database: a known name, manifest path or Brains on Board folder, or a world
     databases: dict[str, DatabaseRef]
+    # "current-goal" alias pairs (current views from the first, goals from the second); all
     conditions: list[str] | Literal["all"] = Field(min_length=1)
     seeds: list[int] = Field(default_factory=list)  # sweep the seed of every generated world
     styles: list[Style] = Field(default_factory=list)  # sweep the style of every generated world
-    goals: list[tuple[int, int]] | Literal["all"] | RandomGoals
-    currents: Literal["all"] | CurrentRange = "all"
-    methods: list[MethodEntry] = Field(min_length=1)
-    metrics: MetricsConfig = MetricsConfig()
-    rotate_current: RotationConfig = RotationConfig()
-    unfold: UnfoldConfig = UnfoldConfig()
-    table_format: Literal["csv", "parquet"] = "csv"
+    goals: list[tuple[int, int]] | Literal["all"] | RandomGoals  # grid indices (i, j) of goals
+    currents: Literal["all"] | CurrentRange = "all"  # current positions homed to each goal
+    methods: list[MethodEntry] = Field(min_length=1)  # method entries (labels distinct)
+    metrics: MetricsConfig = MetricsConfig()  # AHC bins and definition, RR, catchment, bands
+    rotate_current: RotationConfig = RotationConfig()  # seeded turns of the current views
+    unfold: UnfoldConfig = UnfoldConfig()  # panoramas made from a raw-only database
+    table_format: Literal["csv", "parquet"] = "csv"  # format of the tables in tables/
     checks: dict[str, Check] = Field(default_factory=dict)  # method label -> thresholds
     claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 

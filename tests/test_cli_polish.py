@@ -246,7 +246,7 @@ def test_methods_piped_into_head_prints_one_line_and_no_error() -> None:
         timeout=120,
     )
     first = _invoke("methods")[1].splitlines()[0]
-    assert result.stdout == f"{first}\n" and first == "Every method entry also takes:"
+    assert result.stdout == f"{first}\n" and first.startswith("alv ")
     assert result.stderr == ""
 
 
@@ -264,7 +264,7 @@ def test_methods_reader_leaving_after_some_bytes_is_no_error() -> None:
 
 
 def test_methods_shows_type_default_and_meaning() -> None:
-    code, out, _ = _invoke("methods")
+    code, out, _ = _invoke("methods", "warping")
     assert code == 0
     lines = out.splitlines()
     k = lines.index("    n_rho = 20 (int)")

@@ -208,13 +208,13 @@ def test_a_config_without_claims_resolves_as_before_claims_existed(
     check_owner(tmp_path, resolved, take_over=False)  # ConfigError: "claims: null there"
 
 
-def test_the_readmes_claims_are_a_valid_config_section() -> None:
-    """The README's example (Uncertainty and findings) reads as a run config's claims."""
+def test_the_guides_claims_are_a_valid_config_section() -> None:
+    """The guide's example (docs/guide/uncertainty.md) reads as a run config's claims."""
     import yaml
 
     from homebench.config import RunConfig
 
-    text = (Path(__file__).parents[1] / "README.md").read_text()
+    text = (Path(__file__).parents[1] / "docs" / "guide" / "uncertainty.md").read_text()
     section = text.split("**Your own claims.**")[1]
     block = section.split("```yaml\n")[1].split("```")[0]
     methods = [{"method": "sift", "label": label} for label in ("P", "W")]

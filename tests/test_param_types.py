@@ -291,7 +291,7 @@ def test_a_plugin_with_valid_parameters_runs_and_is_listed(
     entry = {"method": plugin.method, "params": params}
     result = run_config(tmp_path, arena_config(tmp_path, arena_manifest, methods=[entry]))
     assert result.exit_code == 0, result.output
-    listing = CliRunner().invoke(main, ["methods"])
+    listing = CliRunner().invoke(main, ["methods", plugin.method])
     assert listing.exit_code == 0, listing.output
     assert "    limit = inf (float)" in listing.stdout
     assert "    mode = 'fast' (one of fast | slow)" in listing.stdout
@@ -303,18 +303,17 @@ def test_infomax_refuses_a_negative_seed(tmp_path: Path) -> None:
     """It passed the config check, then every trial failed without naming the key."""
     path = _route(tmp_path, {"method": "infomax", "params": {"seed": -1}})
     _refused(_run(path), path, "methods.1.params.seed", "expected an integer >= 0, got -1")
-    listing = CliRunner().invoke(main, ["methods"])
+    listing = CliRunner().invoke(main, ["methods", "infomax"])
     assert "    seed = 0 (int >= 0)" in listing.stdout
 
 
 def _listed(name: str) -> list[str]:
     """The parameter names ``homebench methods`` lists for method ``name``."""
-    result = CliRunner().invoke(main, ["methods"])
+    result = CliRunner().invoke(main, ["methods", name])
     assert result.exit_code == 0, result.output
     lines = result.stdout.splitlines()
-    start = next(k for k, line in enumerate(lines) if line.startswith(f"{name} ("))
-    end = next(k for k in range(start + 1, len(lines)) if not lines[k].startswith(" "))
-    return [line.split()[0] for line in lines[start + 1 : end] if line[4] != " "]
+    end = lines.index("")  # the entry-level keys follow
+    return [line.split()[0] for line in lines[2:end] if line[4] != " "]  # after header, paper
 
 
 def test_sift_unfolded_has_no_annulus_to_mask(tmp_path: Path) -> None:

@@ -112,8 +112,9 @@ def _field_text(field: str, spec: str, conversion: str | None) -> str:
 class Source(_Strict):
     """Where a real set comes from and which environment variable points at a local copy."""
 
-    citation: str
-    url: str | None = None
+    citation: str  # how to cite the set
+    url: str | None = None  # where to get it
+    # environment variable holding the folder of a local copy (or give --path)
     path_env: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")] | None = None
 
 
@@ -165,11 +166,11 @@ class GridSection(_Strict):
 class CatadioptricSection(_Strict):
     """Raw-image camera model (see geometry.CatadioptricGeometry), angles in degrees."""
 
-    centre: FloatPair
-    radii: FloatSeq
-    elevations_deg: FloatSeq
-    direction: Direction = "ccw"
-    zero_angle_deg: float = 0.0
+    centre: FloatPair  # pixel coordinates of the mirror axis
+    radii: FloatSeq  # radial profile: radii (px), increasing ...
+    elevations_deg: FloatSeq  # ... and the elevation imaged at each (linear in between)
+    direction: Direction = "ccw"  # which way azimuth grows on screen
+    zero_angle_deg: float = 0.0  # image angle (ccw from +u) where azimuth 0 (ahead) appears
 
     @field_validator("zero_angle_deg")
     @classmethod
@@ -210,10 +211,10 @@ class CatadioptricSection(_Strict):
 class PanoramaSection(_Strict):
     """Unfolded-panorama camera model (see geometry.PanoramaGeometry), angles in degrees."""
 
-    elevation_top_deg: float
-    elevation_bottom_deg: float
-    direction: Direction = "ccw"
-    zero_column: float = 0.0
+    elevation_top_deg: float  # elevation of the upper edge of the first row
+    elevation_bottom_deg: float  # elevation of the lower edge of the last row
+    direction: Direction = "ccw"  # ccw: azimuth grows to the right
+    zero_column: float = 0.0  # column of azimuth 0 (ahead), in [0, width)
 
     @field_validator("elevation_top_deg", "elevation_bottom_deg")
     @classmethod
@@ -458,16 +459,18 @@ class Generator(_Strict):
 class Manifest(_Strict):
     """One grid database: see the module docstring and ``data_manifests/*.yaml``."""
 
-    schema_version: Literal[1] = Field(alias="schema")
-    name: Name
+    schema_version: Literal[1] = Field(alias="schema")  # the manifest format's version
+    name: Name  # letters, digits, . _ -
     description: str = ""
-    source: Source | None = None
+    source: Source | None = None  # where a real set comes from (optional for your own sets)
     grid: GridSection
+    # required: the world heading every image faces (deg, ccw from the grid's +x axis)
     heading_deg: Annotated[float, Field(allow_inf_nan=False)]
+    # per-position headings where they differ, by grid key "X_Y"
     headings_deg: dict[str, Annotated[float, Field(allow_inf_nan=False)]] = {}
-    images: ImagesSection
-    generator: Generator | None = None
-    ground_truth: str | None = None
+    images: ImagesSection  # one or both kinds of image
+    generator: Generator | None = None  # a generated set's world spec and its key
+    ground_truth: str | None = None  # a generated set's ground-truth file, relative path
 
     model_config = ConfigDict(extra="forbid", frozen=True, strict=True, populate_by_name=True)
 
@@ -478,7 +481,7 @@ class Manifest(_Strict):
         if isinstance(data, dict) and "heading_deg" not in data:
             raise ValueError(
                 "heading_deg is required: the world direction (deg, ccw from the grid's +x "
-                "axis) every image faces; Vardy's Bielefeld sets and the README's example "
+                "axis) every image faces; Vardy's Bielefeld sets and the guide's example "
                 "use 90.0 (images facing +y), generated worlds 0.0"
             )
         return data

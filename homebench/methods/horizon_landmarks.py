@@ -25,7 +25,7 @@ them separates. The segmentation takes three steps, each a parameter shared by b
 The defaults are the segmentation that finds exactly the ground-truth landmarks (a generated
 world's objects, ``render: landmarks``) in the papers' scene (style ``arena``); in textured
 places no setting of the three finds the objects, which need not be darker than what is
-behind them (the README's baselines, the ground-truth-landmark control).
+behind them (docs/measured/baselines.md: the baselines and the ground-truth-landmark control).
 
 :class:`LandmarkViews` holds what the two methods share besides: their horizon parameters and
 ``describe`` (the horizon signal). Both compare bearings in one frame: the papers' external

@@ -10,9 +10,10 @@ meaning, and, when it has one, its relation to the paper:
 
 A field with neither is the paper's own parameter (or an implementation setting the paper has no
 use for). :func:`parameter_docs` reads any method's fields — third-party methods without metadata
-included — and :func:`method_listing` formats them for ``homebench methods``; :func:`documented`
-appends the same list to the class docstring, so the reasons live in one place. The values a
-method is given are checked against its fields' types by :mod:`homebench.methods.param_types`.
+included — and :mod:`homebench.methods.cards` formats them for ``homebench methods`` and the
+documentation; :func:`documented` appends the same list to the class docstring, so the reasons
+live in one place. The values a method is given are checked against its fields' types by
+:mod:`homebench.methods.param_types`.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ import re
 import textwrap
 import types
 import typing
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal, get_args, get_origin
 
@@ -43,7 +45,9 @@ class ParamInfo:
 
 @dataclass(frozen=True)
 class ParameterDoc:
-    """One parameter as listed: name, type and default as text, meaning, status and its note."""
+    """One parameter as listed: name, type and default as text, meaning, status and its note;
+    the bounds its type sets (">= 0", "" for none), the default itself (``value``) and whether
+    the parameter has none (``required``)."""
 
     name: str
     type: str
@@ -51,6 +55,9 @@ class ParameterDoc:
     meaning: str = ""
     status: Status = ""
     note: str = ""
+    bounds: str = ""
+    value: Any = dataclasses.field(default=None, compare=False)
+    required: bool = dataclasses.field(default=False, compare=False)
 
 
 def param(default: Any, meaning: str, *, paper: str = "", reading: str = "") -> Any:
@@ -74,18 +81,18 @@ def same_as(owner: type, name: str, scope: str = "") -> Any:
     return dataclasses.field(default=source.default, metadata=metadata)
 
 
-def _type_text(hint: Any) -> str:
+def type_text(hint: Any) -> str:
     """Plain text of a type hint: ``one of a | b`` for Literals, ``int | None`` for unions,
     ``tuple[float, float]`` for generic types, ``int >= 0`` for a bounded one."""
     if isinstance(hint, str):  # an annotation that did not resolve: its text
         return hint.strip("'\"")
     origin, args = get_origin(hint), get_args(hint)
     if origin is Annotated:
-        return " ".join(filter(None, [_type_text(args[0]), bounds_text(hint)]))
+        return " ".join(filter(None, [type_text(args[0]), bounds_text(hint)]))
     if origin is Literal:
         return "one of " + " | ".join(str(choice) for choice in args)
     if args and origin in (typing.Union, types.UnionType):
-        return " | ".join("None" if a is type(None) else _type_text(a) for a in args)
+        return " | ".join("None" if a is type(None) else type_text(a) for a in args)
     return str(hint) if args else getattr(hint, "__name__", str(hint))
 
 
@@ -101,19 +108,24 @@ def parameter_docs(cls: type) -> list[ParameterDoc]:
     """The parameters (init fields) of a method dataclass, documented or not, in field order."""
     hints = field_hints(cls)
     docs = []
-    for field in dataclasses.fields(cls):
-        if not field.init:
-            continue
-        info = field.metadata.get(_KEY)
-        default = _default(field)
+    for each in _init_fields(cls):
+        info = each.metadata.get(_KEY, ParamInfo(""))
+        default = _default(each)
         shown = "(required)" if default is dataclasses.MISSING else repr(default)
-        kind = _type_text(hints.get(field.name, field.type))
-        if info is None:
-            docs.append(ParameterDoc(field.name, kind, shown))
-            continue
+        hint = hints.get(each.name, each.type)
         status: Status = "departure" if info.paper else "reading" if info.reading else ""
         docs.append(
-            ParameterDoc(field.name, kind, shown, info.meaning, status, info.paper or info.reading)
+            ParameterDoc(
+                each.name,
+                type_text(hint),
+                shown,
+                info.meaning,
+                status,
+                info.paper or info.reading,
+                bounds_text(hint) if not isinstance(hint, str) else "",
+                None if default is dataclasses.MISSING else default,
+                default is dataclasses.MISSING,
+            )
         )
     return docs
 
@@ -130,11 +142,11 @@ def _annotation(doc: ParameterDoc) -> str:
     return ""
 
 
-def parameter_lines(cls: type, indent: str = "    ") -> list[str]:
+def parameter_lines(docs: Sequence[ParameterDoc], indent: str = "    ") -> list[str]:
     """``name = default (type)`` per parameter, then its meaning and annotation, indented and
     wrapped."""
     lines = []
-    for doc in parameter_docs(cls):
+    for doc in docs:
         lines.append(f"{indent}{doc.name} = {doc.default} ({doc.type})")
         for text in (doc.meaning, _annotation(doc)):
             lines.extend(
@@ -184,22 +196,21 @@ def _same_value(a: Any, b: Any) -> bool:
     return bool(a == b)
 
 
-def summary(cls: type) -> str:
-    """The first paragraph of a class docstring, on one line, reStructuredText roles and
-    literals as plain text."""
-    text = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
+def first_paragraph(doc: str | None) -> str:
+    """The first paragraph of a docstring, on one line, reStructuredText roles and literals as
+    plain text."""
+    text = " ".join((doc or "").strip().split("\n\n")[0].split())
     return re.sub(r"(?::\w+:)?`+([^`]+)`+", r"\1", text)
 
 
-def method_listing(name: str, cls: type) -> list[str]:
-    """What ``homebench methods`` prints for one method: a header line and its parameters."""
-    kind = getattr(cls, "image_kind", "?")
-    return [f"{name} ({kind} images): {summary(cls)}", *parameter_lines(cls)]
+def summary(cls: type) -> str:
+    """The first paragraph of a class docstring (:func:`first_paragraph`)."""
+    return first_paragraph(cls.__doc__)
 
 
 def documented(cls: type) -> type:
     """Class decorator: append the parameter list (from the fields' metadata) to ``__doc__``."""
     cls.__doc__ = f"{(cls.__doc__ or '').rstrip()}\n\nParameters:\n\n" + "\n".join(
-        parameter_lines(cls)
+        parameter_lines(parameter_docs(cls))
     )
     return cls
