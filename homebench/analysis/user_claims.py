@@ -114,7 +114,8 @@ def trial_difference(claim: ClaimEntry, trials: pd.DataFrame) -> tuple[np.ndarra
         mine = rows[rows["method"] == label]
         return mine.set_index("unit")[[column, "world", "group"]].astype(float)
 
-    both = of(claim.better).join(of(claim.than)[[column]], rsuffix="_than", how="inner")
+    than_column = of(claim.than)[[column]].rename(columns={column: f"{column}_than"})
+    both = of(claim.better).join(than_column, how="inner")
     both = both[np.isfinite(both[[column, f"{column}_than"]]).all(axis=1)].sort_index()
     better, than = both[column].to_numpy(), both[f"{column}_than"].to_numpy()
     values = better - than if claim.metric == "success" else than - better
