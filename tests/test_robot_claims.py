@@ -143,3 +143,18 @@ def test_closed_loop_trials_are_clustered_by_goal_when_there_are_several() -> No
     assert len(values) == 4 and len(np.unique(labels, axis=0)) == 4
     equal = trial_difference(claim.model_copy(update={"metric": "final_error"}), trials)[0]
     assert not equal.any()
+
+
+def test_the_guides_robot_claims_are_a_valid_closed_loop_section() -> None:
+    """The guide's robot example (docs/guide/uncertainty.md) reads as a closed-loop config's."""
+    from homebench.experiments.closed_loop.config import ClosedLoopConfig
+
+    text = (Path(__file__).parents[1] / "docs" / "guide" / "uncertainty.md").read_text()
+    section = text.split("**Your own claims.**")[1]
+    block = section.split("```yaml\n")[2].split("```")[0]
+    config = ClosedLoopConfig.model_validate(
+        {**TINY, "output": "x", "styles": ["posters", "lab"], "controls": ["random"],
+         "methods": [{"method": "warping"}, {"method": "alv"}], **yaml.safe_load(block)}
+    )  # fmt: skip
+    assert [c.metric for c in config.claims] == ["success", "final_error"]
+    assert config.claims[1].condition == "lab" and config.claims[1].margin == 0.05
