@@ -158,3 +158,19 @@ def test_the_guides_robot_claims_are_a_valid_closed_loop_section() -> None:
     )  # fmt: skip
     assert [c.metric for c in config.claims] == ["success", "final_error"]
     assert config.claims[1].condition == "lab" and config.claims[1].margin == 0.05
+
+
+def test_a_route_run_records_its_claims_before_the_trials(tmp_path: Path) -> None:
+    """One short drive: the claim is stamped before the trial and tested on it."""
+    from test_route_experiment import SHORT
+
+    claims = [{"better": "klt-sector", "than": "odometry", "metric": "final_error"}]
+    result = _run(tmp_path, {**SHORT, "claims": claims})
+    assert result.exit_code == 0, result.output
+    recorded = json.loads((tmp_path / "run" / "config.resolved.json").read_text())["claims"]
+    assert recorded[0]["results_before"] == 0 and recorded[0]["stated"]
+    found = CliRunner().invoke(main, ["findings", str(tmp_path / "run")])
+    assert found.exit_code == 0, found.output
+    rows = {row[1]: row for row in _tables(found.stdout)[0]}
+    claim = rows["klt-sector beats odometry in final_error over all trials"]
+    assert claim[5] == "1" and claim[-1].endswith("before any result")
