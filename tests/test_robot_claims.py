@@ -56,6 +56,9 @@ def test_a_closed_loop_claim_is_recorded_before_the_trials_and_tested(tmp_path: 
     assert success[-2] == ("holds" if float(success[-3]) < 0.05 else "not significant")
     assert rows["truth beats warping in final_error under posters"][5] == "12"
     assert untested == [["run", "papers' findings", "no paper finding for closed-loop runs"]]
+    assert "--role" not in found.stdout  # closed-loop runs take no roles
+    pooled = CliRunner().invoke(main, ["findings", str(tmp_path / "run"), "--pool", "all"])
+    assert pooled.exit_code == 2 and "no paper finding for closed-loop runs" in pooled.stderr
 
 
 def test_a_route_claim_is_tested_beside_seed_000s_findings(tmp_path: Path) -> None:

@@ -531,6 +531,8 @@ ROLES_NOTE = (
 
 
 def untestable_view(table: pd.DataFrame) -> TableView:
-    """What could not be tested, and why: place, finding, reason."""
+    """What could not be tested, and why: place, finding, reason; a note on ``--role`` unless
+    the runs are closed-loop runs (they take no roles)."""
     title = "Not tested (the runs lack what the finding needs)"
-    return make_view("not_tested", title, table, {}, notes=(ROLES_NOTE,))
+    closed_loop = bool((table["reason"] == NO_CLOSED_LOOP_FINDING).any())
+    return make_view("not_tested", title, table, {}, notes=() if closed_loop else (ROLES_NOTE,))
