@@ -1,6 +1,7 @@
 """A run config's ``claims:``: what the user expects of the methods, stated before the results.
 
-Each claim names two method labels of the run (``better`` expected better than ``than``), a
+Each claim names two methods of the run by label (``better`` expected better than ``than``; a
+method's name serves where one entry runs it: :func:`with_labels`), a
 ``metric``, a ``condition``, optionally a distance ``band`` [lo, hi] in metres (pairs whose
 current position lies that far from the goal) and a ``margin`` (in the metric's unit: degrees
 for ``ae`` and ``rotation_error``, AHC for ``ahc`` and ``ahc90``, a share of starts for ``rr``)
@@ -24,7 +25,7 @@ how many job results the folder held then (``results_before``: 0 = stated before
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from datetime import datetime
 from typing import Literal
 
@@ -86,16 +87,40 @@ class RecordedClaim(ClaimEntry):
     results_before: int | None = Field(None, ge=0)
 
 
+def _label_of(value: str, labels: Sequence[str], names: Mapping[str, str]) -> list[str]:
+    """The labels ``value`` names: itself when a label, else the labels whose entries run the
+    method of that name (``names``: label -> method name)."""
+    if value in labels:
+        return [value]
+    return [label for label, name in names.items() if name == value]
+
+
+def with_labels(claim: ClaimEntry, names: Mapping[str, str]) -> ClaimEntry:
+    """``claim`` with a ``better`` or ``than`` that names a method (``names``: label ->
+    method name of the run's entries) replaced by the one label that runs it (unchanged
+    where it is a label already or names no single entry)."""
+    changes = {}
+    for key in ("better", "than"):
+        value = getattr(claim, key)
+        found = _label_of(value, [], names) if value not in names else [value]
+        if len(found) == 1 and found[0] != value:
+            changes[key] = found[0]
+    return claim.model_copy(update=changes) if changes else claim
+
+
 def claim_problem(
     claims: Sequence[ClaimEntry],
     labels: Sequence[str],
     conditions: Sequence[str],
     kind: str = "grid",
+    names: Mapping[str, str] | None = None,
 ) -> str:
-    """The first claim naming a method label or condition the run does not have, or a metric
-    not of runs of ``kind`` ("grid", "route" or "closed-loop"), or a grid claim without a
-    condition, as "claims.0.better: ..." ("" when every claim fits)."""
+    """The first claim naming a method the run does not have (by label, or by method name
+    when one entry runs it: ``names``, label -> method name), or a condition it does not
+    have, or a metric not of runs of ``kind`` ("grid", "route" or "closed-loop"), or a grid
+    claim without a condition, as "claims.0.better: ..." ("" when every claim fits)."""
     metrics = GRID_METRICS if kind == "grid" else ROBOT_METRICS
+    names = names or {}
     for k, claim in enumerate(claims):
         if claim.metric not in metrics:
             other = "robot (route, closed-loop)" if kind == "grid" else "grid"
@@ -103,11 +128,21 @@ def claim_problem(
                 f"claims.{k}.metric: {claim.metric!r} is a metric of {other} runs; {kind} "
                 f"runs' claims take {', '.join(metrics)}"
             )
+        chosen = []
         for key in ("better", "than"):
-            label = getattr(claim, key)
-            if label not in labels:
-                hint = did_you_mean(label, labels) or f" (labels: {', '.join(labels)})"
-                return f"claims.{k}.{key}: no method labelled {label!r}{hint}"
+            value = getattr(claim, key)
+            found = _label_of(value, labels, names)
+            if not found:
+                hint = did_you_mean(value, labels) or f" (labels: {', '.join(labels)})"
+                return f"claims.{k}.{key}: no method labelled {value!r}{hint}"
+            if len(found) > 1:
+                return (
+                    f"claims.{k}.{key}: {len(found)} method entries run {value} "
+                    f"({', '.join(found)}); give one label"
+                )
+            chosen.append(found[0])
+        if chosen[0] == chosen[1]:
+            return f"claims.{k}: better and than name the same method entry {chosen[0]!r}"
         if claim.condition is None:
             if kind == "grid":
                 return f"claims.{k}.condition: give the condition ({', '.join(conditions)})"

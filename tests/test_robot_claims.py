@@ -177,3 +177,24 @@ def test_a_route_run_records_its_claims_before_the_trials(tmp_path: Path) -> Non
     rows = {row[1]: row for row in _tables(found.stdout)[0]}
     claim = rows["klt-sector beats odometry in final_error over all trials"]
     assert claim[5] == "1" and claim[-1].endswith("before any result")
+
+
+def test_a_claim_may_name_a_method_that_one_entry_runs() -> None:
+    import pytest
+    from pydantic import ValidationError
+
+    from homebench.claim_spec import with_labels
+    from homebench.experiments.closed_loop.config import ClosedLoopConfig
+
+    claims = [{"better": "warping", "than": "random", "metric": "success"}]
+    one = {**TINY, "output": "x", "methods": [{"method": "warping", "label": "w1"}]}
+    config = ClosedLoopConfig.model_validate({**one, "claims": claims})
+    names = {label: name for label, name, _ in config.method_points()}
+    assert with_labels(config.claims[0], names).better == "w1"
+    assert with_labels(config.claims[0], names).than == "random"  # a control: its label
+    two = {**one, "methods": [*one["methods"], {"method": "warping", "label": "w2"}]}
+    with pytest.raises(ValidationError, match=r"claims.0.better: 2 method entries run warping"):
+        ClosedLoopConfig.model_validate({**two, "claims": claims})
+    same = [{"better": "warping", "than": "w1", "metric": "success"}]
+    with pytest.raises(ValidationError, match="name the same method entry 'w1'"):
+        ClosedLoopConfig.model_validate({**one, "claims": same})

@@ -43,7 +43,7 @@ from homebench.analysis.findings import (
 )
 from homebench.analysis.tables import world_codes
 from homebench.analysis.user_claims import claim_plan
-from homebench.claim_spec import ClaimEntry, RecordedClaim
+from homebench.claim_spec import ClaimEntry, RecordedClaim, with_labels
 from homebench.errors import ConfigError, DataError
 from homebench.experiments.route.config import KLT_SECTOR, ODOMETRY
 from homebench.report.closed_loop_report import load_closed_loop_run
@@ -274,13 +274,22 @@ def _grid_findings(
     def planned(place: str) -> list[Planned]:
         """Seed 001's findings and the claims of the place's runs."""
         here = runs_of.get(place, set())
-        mine = [claim_plan(c.claim, c.run.settings.metrics) for c in claims if c.runs & here]
+        mine = [
+            claim_plan(with_labels(c.claim, _names(c.run.settings)), c.run.settings.metrics)
+            for c in claims
+            if c.runs & here
+        ]
         return [*seed_plan, *mine]
 
     done = assess_grid(pairs, starts, planned, alpha)
     return Findings(
         findings_table(done.found), missing_results(runs, labels), _untestable(done.untestable)
     )
+
+
+def _names(config: Any) -> dict[str, str]:
+    """A run config's method names by label (claims may name a method by its name)."""
+    return {label: name for label, name, _ in config.method_points()}
 
 
 def _untestable(items: Sequence[Untestable]) -> pd.DataFrame:
@@ -366,7 +375,9 @@ def _route_findings(run_dirs: Sequence[Path], klt: str, alpha: float) -> Finding
             )
             untestable.append(Untestable(str(place), "seed 000", reason))
         runs = set(here["run"])
-        planned = [claim_plan(c.claim) for c in claims if c.runs & runs]
+        planned = [
+            claim_plan(with_labels(c.claim, _names(c.run.config))) for c in claims if c.runs & runs
+        ]
         done = assess_place(here, here.iloc[:0], planned, str(place), alpha, given=given)
         found += done.found
         untestable += done.untestable
@@ -396,7 +407,7 @@ def _closed_loop_findings(run_dirs: Sequence[Path], alpha: float) -> Findings:
             success=frame["success"].astype(float),
         )
         untestable.append(Untestable(label, "papers' findings", NO_CLOSED_LOOP_FINDING))
-        planned = [claim_plan(claim) for claim in run.config.claims]
+        planned = [claim_plan(with_labels(c, _names(run.config))) for c in run.config.claims]
         done = assess_place(trials, trials.iloc[:0], planned, label, alpha)
         found += done.found
         untestable += done.untestable

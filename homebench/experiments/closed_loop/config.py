@@ -315,7 +315,9 @@ class ClosedLoopConfig(_Strict):
                 f"methods: label {repeated[0]!r} used twice (controls are labelled truth and "
                 "random); give each entry a label"
             )
-        problem = claim_problem(self.claims, labels, self.style_names(), "closed-loop")
+        methods = {label: name for label, name, _ in self.method_points()}
+        styles = self.style_names()
+        problem = claim_problem(self.claims, labels, styles, "closed-loop", methods)
         if problem:
             raise ValueError(problem)
         return self

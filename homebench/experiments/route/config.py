@@ -322,7 +322,8 @@ class RouteConfig(_Strict):
             problem = _method_problem(k, entry)
             if problem:
                 raise ValueError(problem)
-        problem = claim_problem(self.claims, [*labels, ODOMETRY], names, "route")
+        methods = {label: name for label, name, _ in self.method_points()}
+        problem = claim_problem(self.claims, [*labels, ODOMETRY], names, "route", methods)
         if problem:
             raise ValueError(problem)
         return self
