@@ -725,8 +725,9 @@ def findings(
     out: Path | None,
 ) -> None:
     """Test the papers' findings and the runs' own claims on RUN_DIRS: seed 001's findings
-    on grid runs, seed 000's on route runs, and each run config's claims; each with its
-    effect, 95 % interval, Holm-corrected p, verdict and the goals it rests on, per place.
+    on grid runs, seed 000's on route runs, and each run config's claims (a closed-loop
+    run's alone: no paper finding is about closed loops); each with its effect, 95 %
+    interval, Holm-corrected p, verdict and the goals (or trials) it rests on, per place.
     Findings the runs cannot test are listed with the reason; exit 2 when none could be."""
     from homebench.errors import DataError
     from homebench.report.findings_report import (

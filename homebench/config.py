@@ -384,7 +384,8 @@ class RunConfig(_Strict):
             missing = [c for c in check.conditions or [] if c not in names]
             if missing:
                 raise ValueError(f"checks.{label}.conditions: {missing[0]!r} is not a condition")
-        problem = claim_problem(self.claims, labels, names)
+        methods = {label: name for label, name, _ in self.method_points()}
+        problem = claim_problem(self.claims, labels, names, "grid", methods)
         if problem:
             raise ValueError(problem)
         return self

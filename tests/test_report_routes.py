@@ -357,9 +357,9 @@ def test_a_run_of_several_methods_compares_them_on_the_same_trials(tmp_path: Pat
     trials = pd.read_csv(tables / "routes.csv")
     assert list(trials["method"][:2]) == ["klt-sector", "warping"] and len(trials) == 12
     # Seed 000's findings are klt-sector's: the other method's trials stay out of them.
-    from homebench.report.findings_report import _route_table
+    from homebench.report.findings_report import _route_tables
 
-    assert list(_route_table([run])[0]["method"]) == ["klt-sector"] * 6
+    assert list(_route_tables([run])[0]["method"]) == ["klt-sector"] * 6
     figures = sorted(p.name for p in (run / "report" / "figures").glob("*.png"))
     assert figures == [
         "final_error.png",

@@ -23,7 +23,9 @@ and is inconclusive otherwise (no p-value).
 
 Units of replication: for grid runs the goal of a world, (world, goal_i, goal_j) — pairs of one
 goal are not independent; for route runs the trial (each drives with its own noise; trials
-share their world, so the interval speaks for that world's place, not for all places). Tables
+share their world, so the interval speaks for that world's place, not for all places); for
+closed-loop runs' claims the goal when the trials reach several, else the trial
+(:func:`~homebench.analysis.user_claims.trial_difference`). Tables
 may say which world each row belongs to (an int column ``world``, e.g. a run and its swept
 style and seed) and where its findings are tested (a column ``place``, Holm within each);
 without them the swept (style, seed) is the world and the style the place (see
@@ -39,7 +41,7 @@ every effect.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -382,6 +384,13 @@ def _slope_replicates(x: np.ndarray, y: np.ndarray, resampler: GoalResampler) ->
     return Replicates(estimate, slope(weights), len(x), resampler.n_goals)
 
 
+def route_tested(routes: pd.DataFrame, level: float = LEVEL, n_boot: int = N_BOOT) -> list[Tested]:
+    """Seed 000's findings on the trials ``routes`` of seed 000's method in one place (columns
+    ``world``, ``trial``, ``length_m``, ``visual_error_m``, ``odometry_error_m``), tested,
+    before the correction."""
+    return _route_claims(routes, level, n_boot)
+
+
 def _route_claims(routes: pd.DataFrame, level: float, n_boot: int) -> list[Tested]:
     trial = pd.factorize(routes["trial"])[0]
     labels = np.column_stack([routes["world"].to_numpy(dtype=np.int64), trial])
@@ -488,11 +497,14 @@ def assess_place(
     alpha: float = ALPHA,
     level: float = LEVEL,
     n_boot: int = N_BOOT,
+    given: Sequence[Tested] = (),
 ) -> Assessment:
     """Every ``planned`` claim that one place's ``pairs`` and ``starts`` can test, tested and
-    judged (Holm over all of them); the others listed with the reason."""
+    judged with the claims tested already (``given``; Holm over all of them); the others
+    listed with the reason. A robot run's place passes its trials table
+    (:data:`~homebench.analysis.user_claims.TRIAL_COLUMNS`) as ``pairs``."""
     labels, conditions = set(pairs["method"]), set(pairs["condition"])
-    tested, untestable = [], []
+    tested, untestable = list(given), []
     for item in planned:
         reason = missing_needs(item, labels, conditions)
         found = None if reason else item.test(pairs, starts, level, n_boot)

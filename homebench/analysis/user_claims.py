@@ -17,6 +17,18 @@ percentile test that is anti-conservative with few goals, as plain percentile in
 
 A pair without an estimate counts as the run's AHC counts it (``metrics.ahc.missing``; left
 out by default, the paper's reading) for ``ae`` and ``ahc``, and as 90 deg for ``ahc90``.
+
+Robot runs' claims (``success``, ``final_error``) are tested on a table of trials
+(:data:`TRIAL_COLUMNS`, one row per trial and method label; a route run's odometry baseline is
+the label ``odometry``): the effect per trial that both methods finished from the same start
+(the trial's identity minus the method, ``unit``) under the claim's condition (every trial
+without one) is ``better``'s success minus ``than``'s (1, 0 or -1: the mean is the difference
+of the success rates) or ``than``'s final distance to home minus ``better``'s (metres). Its
+interval is a bootstrap and its p the sign-flip test of the cluster sums of ``effect -
+margin`` over the clusters ``group`` gives: the goal of a closed-loop trial (trials to one
+goal share its snapshot) when the paired trials reach several goals, else the trial itself
+(a route run's trials each drive with their own noise: the trial is the unit, as for seed
+000's findings).
 """
 
 from __future__ import annotations
@@ -37,7 +49,7 @@ from homebench.analysis.findings import (
 )
 from homebench.analysis.metrics import Missing, with_missing
 from homebench.analysis.statistics import GoalResampler, Replicates, sign_flip_test
-from homebench.claim_spec import ClaimEntry, claim_text, stated_text
+from homebench.claim_spec import ROBOT_METRICS, ClaimEntry, claim_text, stated_text
 from homebench.config import MetricsConfig
 from homebench.hashing import derived_seed
 
@@ -47,16 +59,36 @@ UNITS = {
     "ahc": "AHC",
     "ahc90": "AHC",
     "rr": "RR",
+    "success": "success share",
+    "final_error": "m of final error",
 }
+#: The columns of a robot run's trials table: the method label, the condition (route name or
+#: world style), the trial's identity minus the method (str), the world (int: pooled runs
+#: never share one), the cluster (int: a closed-loop trial's goal, a route trial itself), the
+#: final distance to home (metres) and whether the trial ended within the success radius.
+TRIAL_COLUMNS = ("method", "condition", "unit", "world", "group", "final_error_m", "success")
 MISSING_WORDS: dict[Missing, str] = {"orthogonal": "as 90 deg", "exclude": "left out"}
 
 
-def claim_plan(claim: ClaimEntry, metrics: MetricsConfig) -> Planned:
-    """``claim`` as a planned claim, tested with the run's ``metrics`` settings."""
+def claim_plan(claim: ClaimEntry, metrics: MetricsConfig | None = None) -> Planned:
+    """``claim`` as a planned claim, tested with the run's ``metrics`` settings (a grid
+    run's; robot claims need none). A robot claim's test takes the trials table
+    (:data:`TRIAL_COLUMNS`) in place of the pairs."""
+    metrics = metrics or MetricsConfig()
     missing: Missing = "orthogonal" if claim.metric == "ahc90" else metrics.ahc.missing
-    how = "" if claim.metric in ("rr", "rotation_error") else MISSING_WORDS[missing]
+    plain = ("rr", "rotation_error", *ROBOT_METRICS)
+    how = "" if claim.metric in plain else MISSING_WORDS[missing]
     text = claim_text(claim)
     record = Claim(text, text, f"claim, stated {stated_text(claim)}", UNITS[claim.metric], how)
+    conditions = () if claim.condition is None else (claim.condition,)
+    if claim.metric in ROBOT_METRICS:
+
+        def on_trials(trials: pd.DataFrame, _: pd.DataFrame, level: float, n_boot: int) -> Tested:
+            values, labels = trial_difference(claim, trials)
+            return effect_of(record, values, labels, level, n_boot, claim.margin)
+
+        empty = "no trial both methods finished from the same start"
+        return Planned(record, (claim.better, claim.than), conditions, on_trials, empty)
 
     def test(pairs: pd.DataFrame, starts: pd.DataFrame, level: float, n_boot: int) -> Tested:
         if claim.metric == "rr":
@@ -68,7 +100,33 @@ def claim_plan(claim: ClaimEntry, metrics: MetricsConfig) -> Planned:
         return effect_of(record, values, labels, level, n_boot, claim.margin)
 
     empty = "no pair both methods homed" + (" in the band" if claim.band else "")
-    return Planned(record, (claim.better, claim.than), (claim.condition,), test, empty)
+    return Planned(record, (claim.better, claim.than), conditions, test, empty)
+
+
+def trial_difference(claim: ClaimEntry, trials: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+    """Per trial unit both methods finished under the claim's condition (all without one):
+    the effect (see the module docstring) and the cluster labels (n, 2): (world, goal) when
+    the units reach several clusters of ``group``, else (world, unit)."""
+    rows = trials if claim.condition is None else trials[trials["condition"] == claim.condition]
+    column = "success" if claim.metric == "success" else "final_error_m"
+
+    def of(label: str) -> pd.DataFrame:
+        mine = rows[rows["method"] == label]
+        return mine.set_index("unit")[[column, "world", "group"]].astype(float)
+
+    than_column = of(claim.than)[[column]].rename(columns={column: f"{column}_than"})
+    both = of(claim.better).join(than_column, how="inner")
+    both = both[np.isfinite(both[[column, f"{column}_than"]]).all(axis=1)].sort_index()
+    better, than = both[column].to_numpy(), both[f"{column}_than"].to_numpy()
+    values = better - than if claim.metric == "success" else than - better
+    world = both["world"].to_numpy(dtype=np.int64)
+    groups = both[["world", "group"]].drop_duplicates()
+    second = (
+        both["group"].to_numpy(dtype=np.int64)
+        if len(groups) > 1
+        else pd.factorize(both.index)[0].astype(np.int64)
+    )
+    return values, np.column_stack([world, second]).reshape(-1, 2)
 
 
 def _in_band(claim: ClaimEntry, distance: np.ndarray) -> np.ndarray:

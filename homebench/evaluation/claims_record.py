@@ -4,6 +4,8 @@
 runs, each with ``stated`` (UTC, ISO 8601) and ``results_before`` (the job results the folder
 already held). A claim that the folder's earlier record holds keeps that record's stamp; a
 new one (added with ``--update``) gets the time of this run and the results it comes after.
+Robot runs (route, closed-loop) record theirs the same way before any trial runs, counting
+their trial files (``results``: :data:`ROUTE_RESULTS`, :data:`CLOSED_LOOP_RESULTS`).
 """
 
 from __future__ import annotations
@@ -18,6 +20,10 @@ from homebench.hashing import stable_hash
 
 CONFIG_FILE = "config.resolved.json"
 STAMP_KEYS = ("stated", "results_before")
+#: Where each kind of run keeps its results (globs under the run folder).
+GRID_RESULTS = "jobs/*.json"
+ROUTE_RESULTS = "routes/**/*.json"
+CLOSED_LOOP_RESULTS = "trials/**/*.json"
 
 
 def _identity(claim: dict[str, Any]) -> str:
@@ -42,18 +48,32 @@ def _earlier_stamps(run_dir: Path) -> dict[str, dict[str, Any]]:
 
 
 def stamped_claims(
-    claims: list[ClaimEntry], run_dir: Path, now: datetime | None = None
+    claims: list[ClaimEntry],
+    run_dir: Path,
+    now: datetime | None = None,
+    results: str = GRID_RESULTS,
 ) -> list[dict[str, Any]]:
     """``claims`` as the resolved config records them (JSON values): each with its earlier
     stamp where ``run_dir``'s record holds it, else stated ``now`` (default: the current UTC
-    time, to the second) after the job results now in ``run_dir/jobs``."""
+    time, to the second) after the results now in ``run_dir`` (the files matching
+    ``results``: a grid run's job results by default)."""
     earlier = _earlier_stamps(Path(run_dir))
     when = (now or datetime.now(UTC)).isoformat(timespec="seconds")
-    jobs = Path(run_dir) / "jobs"
-    n_results = sum(1 for _ in jobs.glob("*.json")) if jobs.is_dir() else 0
+    n_results = sum(1 for _ in Path(run_dir).glob(results)) if Path(run_dir).is_dir() else 0
     recorded = []
     for claim in claims:
         content = claim.content()
         stamp = earlier.get(_identity(content), {"stated": when, "results_before": n_results})
         recorded.append(content | stamp)
     return recorded
+
+
+def with_stamped_claims(
+    resolved: dict[str, Any], claims: list[ClaimEntry], run_dir: Path, results: str
+) -> dict[str, Any]:
+    """A robot run's resolved config (``resolved``) with its ``claims`` stamped
+    (:func:`stamped_claims`, counting the files ``results`` matches); without a ``claims``
+    key when there are none (as recorded before robot runs had claims)."""
+    if not claims:
+        return resolved
+    return resolved | {"claims": stamped_claims(claims, run_dir, results=results)}

@@ -20,9 +20,12 @@ from matplotlib.figure import Figure
 from pydantic import BaseModel, ValidationError
 
 from homebench.errors import DataError
-from homebench.experiments.closed_loop.config import ClosedLoopConfig
-from homebench.experiments.closed_loop.experiment import (
+from homebench.experiments.closed_loop.config import (
     DATABASE_STYLE,
+    ClosedLoopConfig,
+    ResolvedClosedLoopConfig,
+)
+from homebench.experiments.closed_loop.experiment import (
     ClosedLoopJob,
     plan_trials,
     styles,
@@ -113,7 +116,7 @@ def load_closed_loop_run(info: RunInfo) -> ClosedLoopRun:
     """The trials of the closed-loop run ``info``; DataError when its config is invalid or no
     trial has a valid file."""
     try:
-        config = ClosedLoopConfig.model_validate(info.config)
+        config = ResolvedClosedLoopConfig.model_validate(info.config)
     except ValidationError as error:
         raise validation_error(info.run_dir / CONFIG_FILE, "", error) from None
     records, warnings = [], []

@@ -9,14 +9,21 @@ kind are pooled; the place of a finding is the swept style (``styles:`` in the c
 run's label (its folder's name, see :func:`~homebench.report.run_set.run_labels`) for a grid
 run that sweeps none, or a place by ``--pool`` or ``--place`` (:func:`run_places`), or the
 world style of a route run's config. Each run's worlds are its own units of replication.
+
+Route and closed-loop runs' ``claims:`` (``success``, ``final_error``) are tested on their
+trials, paired by the trial's identity minus the method
+(:func:`~homebench.analysis.user_claims.trial_difference`): a route run's beside seed 000's
+findings in its place (Holm over both), a closed-loop run's alone in a place of the run's own
+(its label; Holm over the run's claims), "no paper finding for closed-loop runs" in the list
+of what was not tested.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 import pandas as pd
 
@@ -26,17 +33,20 @@ from homebench.analysis.findings import (
     PAPER_ROLES,
     Planned,
     SiftRoles,
+    Tested,
     Untestable,
     assess_grid,
+    assess_place,
     findings_table,
-    route_findings,
+    route_tested,
     sift_plan,
 )
 from homebench.analysis.tables import world_codes
 from homebench.analysis.user_claims import claim_plan
-from homebench.claim_spec import ClaimEntry, RecordedClaim
+from homebench.claim_spec import ClaimEntry, RecordedClaim, with_labels
 from homebench.errors import ConfigError, DataError
-from homebench.experiments.route.config import KLT_SECTOR
+from homebench.experiments.route.config import KLT_SECTOR, ODOMETRY
+from homebench.report.closed_loop_report import load_closed_loop_run
 from homebench.report.route_report import load_route_run
 from homebench.report.run_data import RunData, grid_run, read_run_info
 from homebench.report.run_set import missing_results, run_labels
@@ -219,15 +229,19 @@ class _RunClaim:
     first run that states it, and the labels of every run that does."""
 
     claim: ClaimEntry
-    run: RunData
+    run: Any
     runs: set[str]
 
 
-def _claims(runs: Sequence[RunData], labels: Sequence[str]) -> list[_RunClaim]:
-    """The runs' claims, each once."""
+def _claims(
+    runs: Sequence[Any],
+    labels: Sequence[str],
+    claims_of: Callable[[Any], Sequence[ClaimEntry]] = lambda run: run.settings.claims,
+) -> list[_RunClaim]:
+    """The runs' claims (``claims_of`` a run: a grid run's settings' by default), each once."""
     found: dict[str, _RunClaim] = {}
     for run, label in zip(runs, labels, strict=True):
-        for claim in run.settings.claims:
+        for claim in claims_of(run):
             key = str(claim.content())
             earlier = found.setdefault(key, _RunClaim(claim, run, set()))
             earlier.runs.add(label)
@@ -260,13 +274,22 @@ def _grid_findings(
     def planned(place: str) -> list[Planned]:
         """Seed 001's findings and the claims of the place's runs."""
         here = runs_of.get(place, set())
-        mine = [claim_plan(c.claim, c.run.settings.metrics) for c in claims if c.runs & here]
+        mine = [
+            claim_plan(with_labels(c.claim, _names(c.run.settings)), c.run.settings.metrics)
+            for c in claims
+            if c.runs & here
+        ]
         return [*seed_plan, *mine]
 
     done = assess_grid(pairs, starts, planned, alpha)
     return Findings(
         findings_table(done.found), missing_results(runs, labels), _untestable(done.untestable)
     )
+
+
+def _names(config: Any) -> dict[str, str]:
+    """A run config's method names by label (claims may name a method by its name)."""
+    return {label: name for label, name, _ in config.method_points()}
 
 
 def _untestable(items: Sequence[Untestable]) -> pd.DataFrame:
@@ -288,26 +311,107 @@ def _base_key(key: str) -> str:
     return key
 
 
-def _route_table(
+def _route_tables(
     run_dirs: Sequence[Path], klt: str = KLT_SECTOR
-) -> tuple[pd.DataFrame, list[str], list[str]]:
-    """The trials of route runs by the method ``klt`` (a label, or a method's name: seed
-    000's findings are klt-sector's; other methods of a run are left out), one line per trial
-    without a result, and the labels of the methods left out."""
-    frames, others, warnings = [], set(), []
-    for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
+) -> tuple[pd.DataFrame, pd.DataFrame, list[str], list[str], list[_RunClaim]]:
+    """Of route runs: the trials of the method ``klt`` (a label, or a method's name: seed
+    000's findings are klt-sector's; other methods of a run are left out of them), the trials
+    table of every method and the odometry baseline
+    (:data:`~homebench.analysis.user_claims.TRIAL_COLUMNS`, the runs' claims' units), one line
+    per trial without a result, the labels of the methods left out of seed 000's findings and
+    the runs' claims. Each row has its run's ``place``: the world style, or for a run of a
+    database its label."""
+    seed, every, others, warnings, runs = [], [], set(), [], []
+    labels = run_labels(run_dirs)
+    for k, (run_dir, label) in enumerate(zip(run_dirs, labels, strict=True)):
         run = load_route_run(read_run_info(run_dir))
+        runs.append(run)
         warnings += [f"{label}: {line}" for line in run.warnings]
-        world = run.config.world
+        place = run.config.world.style if run.config.database is None else label
         frame = pd.DataFrame([trial.summary for trial in run.trials])
+        frame.insert(0, "world", k)  # a route run drives in one world
+        frame.insert(0, "place", place)
+        frame.insert(0, "run", label)
+        every.append(_route_trials(frame, run.config.success_radius_m))
         points = run.config.method_points()
         chosen = [entry for entry, name, _ in points if klt in (entry, name)]
         others.update(entry for entry, _, _ in points if entry not in chosen)
-        frame = frame[frame["method"].isin(chosen)] if "method" in frame else frame
-        frame.insert(0, "world", k)  # a route run drives in one world
-        frame.insert(0, "place", world.style if run.config.database is None else label)
-        frames.append(frame)
-    return pd.concat(frames, ignore_index=True), warnings, sorted(others)
+        seed.append(frame[frame["method"].isin(chosen)] if "method" in frame else frame)
+    claims = _claims(runs, labels, lambda run: run.config.claims)
+    return (pd.concat(seed, ignore_index=True), pd.concat(every, ignore_index=True), warnings,
+            sorted(others), claims)  # fmt: skip
+
+
+def _route_trials(frame: pd.DataFrame, radius_m: float) -> pd.DataFrame:
+    """A route run's trials (one row per trial and method: its summaries, with ``run``,
+    ``place`` and ``world``) as a trials table, the odometry baseline of each trial a method
+    labelled :data:`ODOMETRY`; a trial is its own cluster."""
+    methods = frame.assign(final_error_m=frame["visual_error_m"].astype(float))
+    odometry = frame.drop_duplicates("trial").assign(
+        method=ODOMETRY, final_error_m=frame["odometry_error_m"].astype(float)
+    )
+    both = pd.concat([methods, odometry], ignore_index=True)
+    unit = both["world"].astype(str) + "/" + both["trial"].astype(str)  # runs pooled: apart
+    return both.assign(
+        condition=both["route"],
+        unit=unit,
+        group=pd.factorize(unit)[0],
+        success=(both["final_error_m"] <= radius_m).astype(float),
+    )
+
+
+def _route_findings(run_dirs: Sequence[Path], klt: str, alpha: float) -> Findings:
+    """Seed 000's findings and the runs' claims on route runs, per place (Holm over both)."""
+    seed, trials, warnings, others, claims = _route_tables(run_dirs, klt)
+    found, untestable = [], []
+    for place in sorted(set(trials["place"])):
+        here = trials[trials["place"] == place]
+        mine = seed[seed["place"] == place]
+        given: list[Tested] = route_tested(mine) if not mine.empty else []
+        if mine.empty:
+            reason = (
+                f"no finished trial of a method labelled or named {klt!r} (methods: "
+                f"{', '.join(others)}; --role {ROUTE_ROLE}=LABEL)"
+            )
+            untestable.append(Untestable(str(place), "seed 000", reason))
+        runs = set(here["run"])
+        planned = [
+            claim_plan(with_labels(c.claim, _names(c.run.config))) for c in claims if c.runs & runs
+        ]
+        done = assess_place(here, here.iloc[:0], planned, str(place), alpha, given=given)
+        found += done.found
+        untestable += done.untestable
+    return Findings(findings_table(found), warnings, _untestable(untestable), units="trials")
+
+
+#: Why a closed-loop run has no paper finding to test.
+NO_CLOSED_LOOP_FINDING = "no paper finding for closed-loop runs"
+
+
+def _closed_loop_findings(run_dirs: Sequence[Path], alpha: float) -> Findings:
+    """The claims of closed-loop runs, each run a place of its own (its label; Holm over its
+    claims); a trial is the unit, clustered by its goal when the paired trials reach
+    several goals."""
+    found, untestable, warnings = [], [], []
+    for k, (run_dir, label) in enumerate(zip(run_dirs, run_labels(run_dirs), strict=True)):
+        run = load_closed_loop_run(read_run_info(run_dir))
+        warnings += [f"{label}: {line}" for line in run.warnings]
+        frame = run.trials
+        goal = frame["style"].astype(str) + "/g" + frame["goal"].astype(str)
+        trials = frame.assign(
+            world=k,
+            condition=frame["style"],
+            unit=goal + "/s" + frame["start"].astype(str),
+            group=pd.factorize(goal)[0],
+            final_error_m=frame["final_distance_m"].astype(float),
+            success=frame["success"].astype(float),
+        )
+        untestable.append(Untestable(label, "papers' findings", NO_CLOSED_LOOP_FINDING))
+        planned = [claim_plan(with_labels(c, _names(run.config))) for c in run.config.claims]
+        done = assess_place(trials, trials.iloc[:0], planned, label, alpha)
+        found += done.found
+        untestable += done.untestable
+    return Findings(findings_table(found), warnings, _untestable(untestable), units="trials")
 
 
 def findings_of_runs(
@@ -332,7 +436,14 @@ def findings_of_runs(
     roles = dict(roles or {})
     kinds = {read_run_info(run_dir).kind for run_dir in run_dirs}
     if len(kinds) > 1:
-        raise DataError("findings: give run folders of one kind (grid runs or route runs)")
+        raise DataError("findings: give run folders of one kind (grid, route or closed-loop runs)")
+    if kinds == {"closed-loop"}:
+        if roles or pool is not None or places:
+            raise ConfigError(
+                "--role, --pool, --place: no paper finding for closed-loop runs (their claims "
+                "are tested per run)"
+            )
+        return _closed_loop_findings(run_dirs, alpha)
     if kinds != {"route"}:
         return _grid_findings(run_dirs, roles, alpha, pool, places or {})
     seed_001 = sorted(set(roles) - {ROUTE_ROLE})
@@ -344,17 +455,7 @@ def findings_of_runs(
         raise ConfigError(
             "--pool, --place: route runs pool by world style already (grid runs only)"
         )
-    klt = roles.get(ROUTE_ROLE, KLT_SECTOR)
-    trials, warnings, others = _route_table(run_dirs, klt)
-    if trials.empty:
-        reason = (
-            f"no finished trial of a method labelled or named {klt!r} (methods: "
-            f"{', '.join(others)}; --role {ROUTE_ROLE}=LABEL)"
-        )
-        untestable = pd.DataFrame([{"place": "all", "finding": "seed 000", "reason": reason}])
-        return Findings(findings_table([]), warnings, untestable, units="trials")
-    found = findings_table(route_findings(trials, alpha))
-    return Findings(found, warnings, _untestable([]), units="trials")
+    return _route_findings(run_dirs, roles.get(ROUTE_ROLE, KLT_SECTOR), alpha)
 
 
 def requirements() -> list[str]:
@@ -386,8 +487,9 @@ MISSING_NOTE = (
 CLAIMS_NOTE = (
     "claims: the runs' own (claims: in a run's config), tested beside the papers' findings and "
     "Holm-corrected with them; an AE or AHC claim counts a pair without an estimate as the "
-    "run's AHC does (metrics.ahc.missing), AHC90 as 90 deg. stated: when the run first recorded "
-    "the claim, and whether job results existed then."
+    "run's AHC does (metrics.ahc.missing), AHC90 as 90 deg; a robot claim pairs the trials "
+    "both methods drove from the same start. stated: when the run first recorded the claim, "
+    "and whether results existed then."
 )
 CLAIM_SOURCE = "claim, stated "
 
@@ -395,8 +497,11 @@ CLAIM_SOURCE = "claim, stated "
 def findings_view(table: pd.DataFrame, alpha: float = ALPHA, units: str = "goals") -> TableView:
     """The findings table for printing: place, finding, how a pair without an estimate counts
     (when any finding is about the AE), effect with its 95 % interval, unit, the number of
-    ``units`` (goals, or route trials) it rests on, Holm-corrected p, verdict and, when a run
-    states claims, when each was stated."""
+    ``units`` (goals, or robot trials) it rests on (for trials, their clusters too where
+    fewer: a closed-loop claim's goals), Holm-corrected p, verdict and, when a run states
+    claims, when each was stated."""
+    by_trial = units == "trials"  # robot runs: the trials, and their clusters where fewer
+    clustered = by_trial and bool((table["clusters"] != table["n"]).any())
     missing = table["missing"].replace("", MISSING_TEXT)
     about_ae = bool((missing != MISSING_TEXT).any())
     is_claim = table["source"].str.startswith(CLAIM_SOURCE)
@@ -412,15 +517,18 @@ def findings_view(table: pd.DataFrame, alpha: float = ALPHA, units: str = "goals
                 for lo, hi in zip(table["lo"], table["hi"], strict=True)
             ],
             "unit": table["unit"],
-            units: table["clusters"],
+            units: table["n"] if by_trial else table["clusters"],
+            **({"clusters": table["clusters"]} if clustered else {}),
             "p (Holm)": table["p_holm"],
             "verdict": table["verdict"],
             **({"stated": stated} if is_claim.any() else {}),
         }
     )
     what = "the papers' findings and the runs' claims" if is_claim.any() else "the papers' findings"
-    title = f"Tests of {what} (goal-level, Holm-corrected within each place, alpha = {alpha:g})"
+    level = "paired over trials" if by_trial else "goal-level"
+    title = f"Tests of {what} ({level}, Holm-corrected within each place, alpha = {alpha:g})"
     digits = {"effect": FIXED2, units: FIXED0, "p (Holm)": FIXED3}
+    digits |= {"clusters": FIXED0} if clustered else {}
     notes = ((MISSING_NOTE,) if about_ae else ()) + ((CLAIMS_NOTE,) if is_claim.any() else ())
     return make_view("findings", title, frame, digits, notes=notes)
 
@@ -434,6 +542,8 @@ ROLES_NOTE = (
 
 
 def untestable_view(table: pd.DataFrame) -> TableView:
-    """What could not be tested, and why: place, finding, reason."""
+    """What could not be tested, and why: place, finding, reason; a note on ``--role`` unless
+    the runs are closed-loop runs (they take no roles)."""
     title = "Not tested (the runs lack what the finding needs)"
-    return make_view("not_tested", title, table, {}, notes=(ROLES_NOTE,))
+    closed_loop = bool((table["reason"] == NO_CLOSED_LOOP_FINDING).any())
+    return make_view("not_tested", title, table, {}, notes=() if closed_loop else (ROLES_NOTE,))

@@ -30,6 +30,7 @@ from homebench.analysis.statistics import (
     sign_flip_test,
     wilcoxon_test,
 )
+from homebench.experiments.route.config import ODOMETRY
 from homebench.report.route_figures import ERROR_FLOOR_M
 from homebench.report.style import (
     DOUBLE_COLUMN,
@@ -40,8 +41,6 @@ from homebench.report.style import (
 )
 from homebench.report.tables import FIXED0, FIXED1, FIXED2, P_VALUE, TableView, make_view
 
-#: The baseline's label in these tables and figures.
-ODOMETRY = "odometry"
 ERROR_FIGURE_HEIGHT = 3.6
 
 

@@ -24,7 +24,12 @@ from matplotlib.figure import Figure
 from pydantic import BaseModel, ValidationError
 
 from homebench.errors import DataError
-from homebench.experiments.route.config import KLT_SECTOR, RouteConfig, RouteSpec
+from homebench.experiments.route.config import (
+    KLT_SECTOR,
+    ResolvedRouteConfig,
+    RouteConfig,
+    RouteSpec,
+)
 from homebench.experiments.route.experiment import RouteJob, RouteTrial, route_jobs
 from homebench.experiments.route.probes import ridf_figure
 from homebench.report.pages import environment_lines, run_lines
@@ -147,7 +152,7 @@ def load_route_run(info: RunInfo) -> RouteRun:
     """The trials of the route run ``info``; DataError when its config is invalid or no
     trial has a valid file."""
     try:
-        config = RouteConfig.model_validate(info.config)
+        config = ResolvedRouteConfig.model_validate(info.config)
     except ValidationError as error:
         raise validation_error(info.run_dir / CONFIG_FILE, "", error) from None
     trials, warnings = [], []

@@ -20,6 +20,9 @@ Dispatched on ``kind: closed-loop``. Example (see ``configs/closed_loop.yaml``):
     render: {lattice: 0.02}
     training: {routes: 8, length_m: 1.5, spacing_m: 0.1}  # route-learning methods' views
     job_timeout_s: 3600                   # a trial running longer fails (null: never)
+    claims:                               # tested by `homebench findings` (claim_spec.py)
+      - {better: warping, than: random, metric: success}
+      - {better: warping, than: alv, metric: final_error, condition: lab, margin: 0.05}
 
 Defaults and why:
 
@@ -49,6 +52,11 @@ Defaults and why:
   from the far end in: the routes an animal's first trips to a place would leave, the paper's
   training views (facing the way to go) in every direction a start may lie.
 
+- ``claims`` (:mod:`homebench.claim_spec`): ``success`` or ``final_error`` (the trial's final
+  distance to its goal, metres) of two labels (method entries or controls), optionally under
+  one world ``condition`` (a style of the run; ``database`` for a database run); recorded with
+  when each was stated in ``config.resolved.json`` before any trial runs.
+
 Checks that need the world (goals in free space) happen when the experiment starts.
 """
 
@@ -72,6 +80,7 @@ from pydantic import (
 )
 
 from homebench.bounds import MAX_TRIAL_FRAMES, count_problem
+from homebench.claim_spec import ClaimEntry, RecordedClaim, claim_problem
 from homebench.config import (
     DEFAULT_JOB_TIMEOUT_S,
     JobTimeout,
@@ -86,6 +95,8 @@ from homebench.experiments.robot import DriftModel, MotionLimits
 from homebench.geometry import Pose, wrap_angle
 from homebench.yamlio import load_model
 
+#: The style name of a database run's trials (it has no world style).
+DATABASE_STYLE = "database"
 Control = Literal["truth", "random"]
 CONTROLS: tuple[Control, ...] = ("truth", "random")
 #: Region of the floor: (x_min, y_min, x_max, y_max), metres.
@@ -268,14 +279,18 @@ class ClosedLoopConfig(_Strict):
     drift: DriftModel = DriftModel()
     render: RenderConfig = RenderConfig()
     training: TrainingRoutes = TrainingRoutes()
+    claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 
     @model_serializer(mode="wrap")
     def _omit_unused(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
-        """The fields, without ``training`` when no method learns a route (a resolved config,
-        and its hash, as before closed loops had such methods)."""
+        """The fields, without ``training`` when no method learns a route and without
+        ``claims`` when there are none (a resolved config, and its hash, as before closed
+        loops had such methods or claims)."""
         data = handler(self)
         if not any(is_memory_method(entry.method) for entry in self.methods):
             data.pop("training", None)
+        if not self.claims:
+            data.pop("claims", None)
         return data
 
     @model_validator(mode="after")
@@ -300,6 +315,11 @@ class ClosedLoopConfig(_Strict):
                 f"methods: label {repeated[0]!r} used twice (controls are labelled truth and "
                 "random); give each entry a label"
             )
+        methods = {label: name for label, name, _ in self.method_points()}
+        styles = self.style_names()
+        problem = claim_problem(self.claims, labels, styles, "closed-loop", methods)
+        if problem:
+            raise ValueError(problem)
         return self
 
     def count_problem(self, region: Region | None = None) -> str:
@@ -332,12 +352,24 @@ class ClosedLoopConfig(_Strict):
         """Every method label, then the controls."""
         return [label for label, _, _ in self.method_points()] + list(self.controls)
 
+    def style_names(self) -> list[str]:
+        """The style of each swept world, config order (:data:`DATABASE_STYLE` for a
+        database run): the conditions a claim may name."""
+        return [DATABASE_STYLE if w is None else w.style for w in self.worlds()]
+
     def worlds(self) -> list[WorldSpec | None]:
         """The world of each swept style (the world itself without styles); [None] for a
         database."""
         if self.database is not None:
             return [None]
         return [self.world.model_copy(update={"style": s}) for s in self.styles] or [self.world]
+
+
+class ResolvedClosedLoopConfig(ClosedLoopConfig):
+    """A closed-loop run's ``config.resolved.json``: its claims with when each was stated
+    (:func:`~homebench.evaluation.claims_record.stamped_claims`)."""
+
+    claims: list[RecordedClaim] = Field(default_factory=list)  # type: ignore[assignment]
 
 
 def load_closed_loop_config(path: Path, overrides: Sequence[str] = ()) -> ClosedLoopConfig:

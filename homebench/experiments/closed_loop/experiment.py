@@ -26,6 +26,7 @@ import numpy as np
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
+from homebench.evaluation.claims_record import CLOSED_LOOP_RESULTS, with_stamped_claims
 from homebench.evaluation.code_version import code_version, module_version
 from homebench.evaluation.executors import preload_for
 from homebench.evaluation.jobs import JobOutcome, run_safely
@@ -52,8 +53,6 @@ from homebench.views import View
 CLOSED_LOOP_FORMAT = 1
 TRIALS_DIR = "trials"
 VIEWS_DIR = "views"
-#: The style name of a database run's trials.
-DATABASE_STYLE = "database"
 
 
 @dataclass(frozen=True)
@@ -97,7 +96,7 @@ def _world(config: ClosedLoopConfig, style: str) -> WorldSpec:
 
 def styles(config: ClosedLoopConfig) -> list[str]:
     """The run's style names, in config order ("database" for a database run)."""
-    return [DATABASE_STYLE if w is None else w.style for w in config.worlds()]
+    return config.style_names()
 
 
 _scenes: dict[str, Scene] = {}
@@ -352,7 +351,9 @@ def run_closed_loop_experiment(
         raise ConfigError(f"{config_path}: no start lies in free space far enough from a goal")
     run_dir = Path(config.output)
     make_folder(run_dir)
-    write_run_metadata(config, config_path, run_dir)
+    resolved = config.model_dump(mode="json")  # claims stated before any trial runs
+    resolved = with_stamped_claims(resolved, config.claims, run_dir, CLOSED_LOOP_RESULTS)
+    write_run_metadata(config, config_path, run_dir, resolved)
     if force:
         for job in plan:
             job.result_path(run_dir).unlink(missing_ok=True)

@@ -31,6 +31,9 @@ Dispatched on ``kind: route`` (grid-database runs are :mod:`homebench.config`). 
       probes: {spacing_m: 0.5, offsets_m: [-0.5, 0, 0.5]}   # heading field beside the route
     success_radius_m: 0.1                        # success: the final position this near home
     job_timeout_s: 3600                          # a trial running longer fails (null: never)
+    claims:                                      # tested by `homebench findings`
+      - {better: klt-sector, than: odometry, metric: final_error, condition: tour}
+      - {better: warping-fine, than: infomax, metric: success, margin: 0.1}
 
 ``klt-sector`` keeps seed 000's own route homing (KLT tracking on the way out, intermediate
 positions from the feature life-cycles, the sector law; set by ``tracker`` and ``homing``, so its
@@ -41,6 +44,12 @@ infomax) learn every outbound view and follow their memory home
 (:mod:`~homebench.experiments.route.pairwise`, set by ``pairwise``). It must be pairwise (no
 grid neighbours, like DID) and work on unfolded panoramas, which is what the scene renders
 (``sift-unfolded`` for the SIFT family).
+
+``claims`` (:mod:`homebench.claim_spec`): ``success`` (the trial ends within
+``success_radius_m`` of home) or ``final_error`` (its final distance to home, metres) of two
+method labels, or of a label and ``odometry`` (the odometry baseline of the same trials,
+:data:`ODOMETRY`), optionally on one route (``condition``: a route's name); recorded with when
+each was stated in ``config.resolved.json`` before any trial runs.
 
 Checks that need the world (waypoints in free space, or within a database's grid) happen when
 the experiment starts.
@@ -68,6 +77,7 @@ from pydantic import (
 )
 
 from homebench.bounds import MAX_FRAMES, MAX_TRIAL_FRAMES, count_problem
+from homebench.claim_spec import ClaimEntry, RecordedClaim, claim_problem
 from homebench.config import (
     ALIAS,
     DEFAULT_JOB_TIMEOUT_S,
@@ -88,6 +98,8 @@ from homebench.yamlio import load_model
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).
 KLT_SECTOR = "klt-sector"
+#: The odometry baseline's label: every trial also homes by odometry alone.
+ODOMETRY = "odometry"
 #: The waypoints of a route that follows its database's recorded poses.
 RECORDED = "recorded"
 #: Recorded poses closer than this (metres) to the last one a replayed route keeps are dropped
@@ -275,6 +287,7 @@ class RouteConfig(_Strict):
     pairwise: PairwiseParams = PairwiseParams()
     familiarity: FamiliarityParams = FamiliarityParams()
     success_radius_m: float = Field(0.1, gt=0)
+    claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 
     @model_validator(mode="after")
     def _checks(self) -> RouteConfig:
@@ -309,6 +322,10 @@ class RouteConfig(_Strict):
             problem = _method_problem(k, entry)
             if problem:
                 raise ValueError(problem)
+        methods = {label: name for label, name, _ in self.method_points()}
+        problem = claim_problem(self.claims, [*labels, ODOMETRY], names, "route", methods)
+        if problem:
+            raise ValueError(problem)
         return self
 
     @model_serializer(mode="wrap")
@@ -325,6 +342,8 @@ class RouteConfig(_Strict):
         for name in ("methods", "success_radius_m", "recorded_reach_m"):
             if name not in self.model_fields_set:
                 data.pop(name, None)
+        if not self.claims:  # as before route runs had claims
+            data.pop("claims", None)
         if self.database is not None:  # no world then: the resolved config reads back
             data.pop("world", None)
         return data
@@ -379,6 +398,13 @@ class RouteConfig(_Strict):
     def klt(self) -> KltTracker:
         """The corner tracker of the run."""
         return KltTracker(**self.tracker)
+
+
+class ResolvedRouteConfig(RouteConfig):
+    """A route run's ``config.resolved.json``: its claims with when each was stated
+    (:func:`~homebench.evaluation.claims_record.stamped_claims`)."""
+
+    claims: list[RecordedClaim] = Field(default_factory=list)  # type: ignore[assignment]
 
 
 def _kind(name: str) -> str:

@@ -41,6 +41,7 @@ import pandas as pd
 
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
+from homebench.evaluation.claims_record import ROUTE_RESULTS, with_stamped_claims
 from homebench.evaluation.code_version import code_version
 from homebench.evaluation.executors import preload_for
 from homebench.evaluation.jobs import JobOutcome, run_safely
@@ -585,7 +586,9 @@ def run_route_experiment(
     check_routes(config, route_scene(config), config_path)
     run_dir = Path(config.output)
     make_folder(run_dir)
-    write_run_metadata(config, config_path, run_dir)
+    resolved = config.model_dump(mode="json")  # claims stated before any trial runs
+    resolved = with_stamped_claims(resolved, config.claims, run_dir, ROUTE_RESULTS)
+    write_run_metadata(config, config_path, run_dir, resolved)
     plan = route_jobs(config)
     if force:
         for job in plan:
