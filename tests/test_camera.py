@@ -242,7 +242,7 @@ def _world(gain: float, camera: dict[str, object]) -> dict[str, object]:
     return {"world": {"seed": 4, "grid": {"shape": [4, 5]}, "light_gain": gain, "camera": camera}}
 
 
-@pytest.mark.parametrize("gain", [0.5, 2.0])
+@pytest.mark.parametrize("gain", [pytest.param(0.5, marks=pytest.mark.slow), 2.0])  # CI time
 def test_warping_survives_a_global_gain_of_the_light(tmp_path, gain):
     """The fidelity issue's requirement: a pure global gain (x0.5 to x2) of the scene seen by
     the auto-exposed camera changes warping's AHC on original-original by less than 0.05

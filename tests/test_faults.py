@@ -83,7 +83,12 @@ def _failures(run_dir: Path) -> dict[str, dict]:
 
 @pytest.mark.parametrize(
     "options",
-    [("--jobs", "1"), ("--jobs", "2"), ("--backend", "dask", "--jobs", "2")],
+    [
+        ("--jobs", "1"),
+        ("--jobs", "2"),
+        # CI time: test_run checks Dask's tables; its isolation is the local pool's code
+        pytest.param(("--backend", "dask", "--jobs", "2"), marks=pytest.mark.slow),
+    ],
     ids=["jobs1", "jobs2", "dask"],
 )
 def test_crashing_hanging_raising_and_exhausting_methods_fail_alone(
@@ -318,7 +323,10 @@ def _ignore_interrupts() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-@pytest.mark.parametrize("inherited", ["default", "ignored"])
+@pytest.mark.parametrize(
+    "inherited",
+    ["default", pytest.param("ignored", marks=pytest.mark.slow)],  # CI time: one by default
+)
 def test_ctrl_c_stops_a_run_at_once_and_a_rerun_resumes(
     tmp_path: Path, arena_manifest: Path, plugin: Plugin, inherited: str
 ) -> None:

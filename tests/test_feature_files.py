@@ -232,6 +232,7 @@ def test_a_deflated_bomb_is_refused_before_it_inflates(tmp_path: Path, key: str)
     assert peak < 32 << 20
 
 
+@pytest.mark.slow  # CI time: a worker's memory limit is tested in test_faults
 def test_a_feature_file_that_exhausts_a_worker_is_recomputed(
     tmp_path: Path, arena_manifest: Path
 ) -> None:

@@ -74,6 +74,7 @@ def test_unknown_route_shape_is_refused() -> None:
         grid_route(GRID, (0, 0), (3, 3), 0.5, "zigzag")  # type: ignore[arg-type]
 
 
+@pytest.mark.slow  # CI time: 26 s of CPU
 def test_tree_routes_of_a_wide_grid_need_no_recursion() -> None:
     """A route as long as a 3000-column grid is wide (deeper than Python's recursion limit)."""
     wide = Grid((2, 3000), 0.3)

@@ -178,6 +178,7 @@ def test_a_figure_page_takes_the_figure_file_as_drawn(
     assert "Figure 1. A line." in only.extract_text()
 
 
+@pytest.mark.slow  # CI time: one run's per-goal figures are tested below
 def test_a_sweep_writes_its_per_goal_figures_as_files_only(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

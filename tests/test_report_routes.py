@@ -285,6 +285,7 @@ def test_bad_route_runs_are_data_errors(route_run: Path) -> None:
         write_report(route_run)
 
 
+@pytest.mark.slow  # CI time: test_report checks a grid report's bytes
 def test_two_route_reports_are_byte_identical(route_run: Path, tmp_path: Path) -> None:
     first = write_report(route_run, ["pdf", "html", "md"], tmp_path / "a").files
     second = write_report(route_run, ["pdf", "html", "md"], tmp_path / "b").files

@@ -268,6 +268,7 @@ CLOSED_LOOP = {
 }
 
 
+@pytest.mark.slow  # CI time: the route run above drives the same methods
 def test_a_closed_loop_run_accepts_route_learning_methods(tmp_path: Path) -> None:
     """The memory methods learn the training routes into the goal and home from the same
     starts as warping; the paired table compares all three."""

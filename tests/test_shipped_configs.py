@@ -25,6 +25,7 @@ def test_shipped_config_is_valid(path: Path) -> None:
         assert load_config(path).methods
 
 
+@pytest.mark.slow  # CI time: .ci/run runs `homebench run configs/smoke.yaml --check` itself
 def test_smoke_benchmark_passes_its_checks(tmp_path: Path) -> None:
     data = yaml.safe_load((Path(__file__).parent.parent / "configs" / "smoke.yaml").read_text())
     data["output"] = str(tmp_path / "smoke")

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pandas as pd
+import pytest
 from conftest import run_config
 
 WORLD = {"grid": {"shape": [3, 3]}, "unfolded": {"width": 180}}
@@ -57,6 +58,7 @@ def test_sweep_keeps_every_factor_as_a_column(tmp_path: Path) -> None:
     assert (abs(a - b) > 1e-9).any()
 
 
+@pytest.mark.slow  # CI time: test_sweep_keeps_every_factor_as_a_column runs a sweep
 def test_styles_sweep_every_generated_database(tmp_path: Path) -> None:
     """``styles`` x ``seeds``: each generated database in every style and seed; the style is a
     column, the headline summary is per style, the goals table and RR starts carry it."""
