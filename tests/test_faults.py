@@ -84,7 +84,7 @@ def _failures(run_dir: Path) -> dict[str, dict]:
 @pytest.mark.parametrize(
     "options",
     [
-        ("--jobs", "1"),
+        pytest.param(("--jobs", "1"), marks=pytest.mark.slow),  # CI time: --jobs 2 is one pool
         ("--jobs", "2"),
         # CI time: test_run checks Dask's tables; its isolation is the local pool's code
         pytest.param(("--backend", "dask", "--jobs", "2"), marks=pytest.mark.slow),

@@ -45,6 +45,7 @@ def _text(pdf: Path, page: int) -> str:
     return pypdf.PdfReader(pdf).pages[page].extract_text()
 
 
+@pytest.mark.slow  # CI time: test_report_document's tests write and read whole reports
 def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
     fake_run = write_fake_run(tmp_path / "run", METHODS, conditions=CONDITIONS, name="fake-run")
     outcome = write_report(fake_run, ["pdf", "html", "md"], max_goals=1)
