@@ -5,7 +5,7 @@ Per pair (goal (5, 9) of synth-original against its first ``--pairs`` currents, 
 at its defaults: 96 blocks of 7 x 7, 61 x 7 displacements): process CPU and wall ms of
 
 - ``home`` (the search, the vector sum, the checks);
-- the compiled search alone (:func:`homebench.methods.block_matching.block_flow`);
+- the compiled search alone (:func:`homebench.methods.block_matching.method.block_flow`);
 - the floor: OpenCV's ``matchTemplate`` (squared differences, float32: it takes no float64)
   of each block against its search window, one call per block, as a user would write it;
 - the numpy search the compiled one replaced (``reference_flow`` of
@@ -35,7 +35,7 @@ from test_block_matching import reference_flow  # noqa: E402
 from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa: E402
 
 from homebench.data.catalog import ensure_generated  # noqa: E402
-from homebench.methods.block_matching import BlockMatching, block_flow, displacements  # noqa: E402
+from homebench.methods.block_matching.method import BlockMatching, block_flow, displacements  # noqa: E402
 
 GOAL = (5, 9)
 

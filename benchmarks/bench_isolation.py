@@ -24,7 +24,7 @@ from homebench.config import MethodEntry
 from homebench.evaluation.executors import PRELOAD, preload_for
 from homebench.evaluation.isolation import Limits, WorkerPool, run_isolated
 
-KERNELS = "homebench.methods.sector_law_kernels"
+KERNELS = "homebench.methods.klt_sector.sector_law_kernels"
 
 PAYLOAD = bytes(20_000)  # a pickled home job of a 10 x 17 grid is about this size
 
@@ -38,7 +38,7 @@ def first_kernel_call(_: int) -> float:
     """CPU seconds of a worker's first call of a numba kernel (the sector law's)."""
     import numpy as np
 
-    from homebench.methods.sector_law_kernels import first_longest_rotation
+    from homebench.methods.klt_sector.sector_law_kernels import first_longest_rotation
 
     start = time.process_time()
     first_longest_rotation(np.arange(4, dtype=np.int64))

@@ -35,8 +35,8 @@ from timing import as_in_job_workers, cpu_and_wall, load, print_figures  # noqa:
 
 from homebench.evaluation.grid_routes import grid_route  # noqa: E402
 from homebench.geometry import Grid, PanoramaGeometry, Pose  # noqa: E402
-from homebench.methods.klt_sector import KltSector  # noqa: E402
-from homebench.methods.klt_tracking import KltTracker, Tracks  # noqa: E402
+from homebench.methods.klt_sector.method import KltSector  # noqa: E402
+from homebench.methods.klt_sector.tracking import KltTracker, Tracks  # noqa: E402
 
 GOAL = Pose(0.2, -0.3, 0.4)
 STEP = 0.05  # metres between route views

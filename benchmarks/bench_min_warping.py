@@ -46,7 +46,7 @@ import peer  # noqa: E402
 from timing import cpu_and_wall, load  # noqa: E402
 
 from homebench.methods.base import View  # noqa: E402
-from homebench.methods.min_warping import MinWarping  # noqa: E402
+from homebench.methods.min_warping.method import MinWarping  # noqa: E402
 
 SETTINGS = {"double + fine": {}, "searches off": {"double_search": False, "fine_search": False}}
 
@@ -54,7 +54,7 @@ SETTINGS = {"double + fine": {}, "searches off": {"double_search": False, "fine_
 def import_kernels() -> None:
     """Import the kernels (they compile, or load from the cache, as they are imported)."""
     start = time.process_time()
-    kernels = importlib.import_module("homebench.methods.min_warping_kernels")
+    kernels = importlib.import_module("homebench.methods.min_warping.kernels")
     cpu = time.process_time() - start
     misses = sum(len(getattr(kernels, name).stats.cache_misses) for name in kernels.SIGNATURES)
     how = f"compiled ({misses} kernels)" if misses else "loaded from numba's cache"

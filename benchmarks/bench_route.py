@@ -37,7 +37,7 @@ from homebench.experiments.route.outbound import drive_outbound  # noqa: E402
 from homebench.experiments.route.visual import home_visually  # noqa: E402
 from homebench.experiments.scene import Camera, world_scene  # noqa: E402
 from homebench.geometry import Pose  # noqa: E402
-from homebench.methods.klt_tracking import Tracks  # noqa: E402
+from homebench.methods.klt_sector.tracking import Tracks  # noqa: E402
 
 HOME = Pose(1.7, 1.8, math.pi / 2)
 ROOT = Path(__file__).resolve().parents[1]

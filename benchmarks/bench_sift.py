@@ -31,9 +31,9 @@ from homebench.data.synth.spec import WorldSpec  # noqa: E402
 from homebench.data.synth.world import build_world  # noqa: E402
 from homebench.geometry import Pose, angle_diff, wrap_angle  # noqa: E402
 from homebench.methods.base import View  # noqa: E402
-from homebench.methods.sift import Sift, SiftFeatures, annulus_mask  # noqa: E402
-from homebench.methods.sift_matching import match_descriptors  # noqa: E402
-from homebench.methods.sift_solver import (  # noqa: E402
+from homebench.methods.sift.matching import match_descriptors  # noqa: E402
+from homebench.methods.sift.method import Sift, SiftFeatures, annulus_mask  # noqa: E402
+from homebench.methods.sift.solver import (  # noqa: E402
     choose_triples,
     circular_least_squares,
     solve_triples,

@@ -39,7 +39,7 @@ from warping_reference import direct_costs  # noqa: E402
 from homebench.data.synth.spec import WorldSpec  # noqa: E402
 from homebench.data.synth.world import render_position  # noqa: E402
 from homebench.methods.base import View  # noqa: E402
-from homebench.methods.warping import Warping, best_hypothesis  # noqa: E402
+from homebench.methods.warping.method import Warping, best_hypothesis  # noqa: E402
 
 SPEC = WorldSpec(
     seed=0,

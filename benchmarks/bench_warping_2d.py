@@ -42,7 +42,7 @@ import numpy as np  # noqa: E402
 import peer  # noqa: E402
 from timing import cpu_and_wall, load  # noqa: E402
 
-from homebench.methods.warping_2d import Warping2D  # noqa: E402
+from homebench.methods.warping_2d.method import Warping2D  # noqa: E402
 
 
 def floor_figure(spectrum: np.ndarray, repeats: int) -> peer.Figure:

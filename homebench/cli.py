@@ -589,7 +589,12 @@ def compare(
     """Compare runs with the first: what differs in their configs and environments, then per
     condition and method the change in mean AE, AHC and RR with its 95 % interval and
     Holm-corrected p-value (paired where the runs share goals) and the time ratios."""
-    from homebench.report.compare import Threshold, compare_runs, renderer_for, write_view_file
+    from homebench.report.across_runs.compare import (
+        Threshold,
+        compare_runs,
+        renderer_for,
+        write_view_file,
+    )
     from homebench.report.tables import to_markdown
 
     thresholds = [Threshold.parse(text) for text in fail_if]
@@ -636,9 +641,9 @@ def leaderboard(
     interval, the best of each column marked *; where a method gave no estimate for some
     pairs, an AHC cell adds the other AHC and the share without an estimate, a mean AE cell
     the share."""
-    from homebench.report.compare import renderer_for, write_view_file
-    from homebench.report.leaderboard import leaderboard as make_leaderboard
-    from homebench.report.leaderboard import write_index
+    from homebench.report.across_runs.compare import renderer_for, write_view_file
+    from homebench.report.across_runs.leaderboard import leaderboard as make_leaderboard
+    from homebench.report.across_runs.leaderboard import write_index
     from homebench.report.tables import to_markdown
 
     if out is not None:
@@ -658,7 +663,7 @@ class _FindingsCommand(click.Command):
     the findings' own definitions when the help is shown."""
 
     def format_epilog(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
-        from homebench.report.findings_report import ROLE_DEFAULTS, requirements
+        from homebench.report.across_runs.findings import ROLE_DEFAULTS, requirements
 
         formatter.write_paragraph()
         formatter.write_text("What each finding needs (roles; --role ROLE=VALUE names them):")
@@ -730,7 +735,7 @@ def findings(
     interval, Holm-corrected p, verdict and the goals (or trials) it rests on, per place.
     Findings the runs cannot test are listed with the reason; exit 2 when none could be."""
     from homebench.errors import DataError
-    from homebench.report.findings_report import (
+    from homebench.report.across_runs.findings import (
         findings_of_runs,
         findings_view,
         untestable_view,

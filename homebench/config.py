@@ -47,8 +47,8 @@ from homebench.geometry import PanoramaGeometry
 from homebench.image_header import size_problem
 from homebench.methods import registry
 from homebench.methods.base import gives_direction
+from homebench.methods.image_difference.visual_compass import CompassMode
 from homebench.methods.param_types import parameter_problem
-from homebench.methods.visual_compass import CompassMode
 from homebench.strict import StrictModel
 from homebench.suggest import did_you_mean
 from homebench.yamlio import load_model, load_yaml_mapping
@@ -127,7 +127,7 @@ class CurrentRange(_Strict):
 class MethodEntry(_Strict):
     """A method with parameters; ``grid`` sweeps parameters (every combination of its lists);
     ``compass`` aligns the current view with the goal's before any method sees it (engine
-    level: :data:`homebench.methods.visual_compass.CompassMode`)."""
+    level: :data:`homebench.methods.image_difference.visual_compass.CompassMode`)."""
 
     method: str
     label: str | None = None

@@ -13,7 +13,7 @@ from typing import Any, ClassVar
 
 from homebench.imaging.rotation import rotate_view
 from homebench.methods.base import HomingEstimate, View
-from homebench.methods.visual_compass import compass_turn, in_current_frame
+from homebench.methods.image_difference.visual_compass import compass_turn, in_current_frame
 
 
 def home_with_visual_compass(method: Any, current: View, goal: View) -> HomingEstimate:

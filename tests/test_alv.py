@@ -23,8 +23,8 @@ from synthetic_panorama import home_errors, render, rolled
 
 from homebench.geometry import Pose, angle_diff, angular_error, home_direction
 from homebench.methods import registry
-from homebench.methods.alv import AverageLandmarkVector, average_landmark_vector
-from homebench.methods.horizon_landmarks import Sectors
+from homebench.methods.landmarks.alv import AverageLandmarkVector, average_landmark_vector
+from homebench.methods.landmarks.horizon import Sectors
 
 GOAL = Pose(0.2, -0.3, 0.4)
 ORIGIN = Pose(0.0, 0.0, 0.0)

@@ -17,7 +17,7 @@ from homebench.evaluation.pair_calls import PairInput, home_pairs
 from homebench.geometry import Pose
 from homebench.methods import registry
 from homebench.methods.base import HomingEstimate, batch_home, home_many
-from homebench.methods.warping import Warping
+from homebench.methods.warping.method import Warping
 
 #: Arena poses: a goal and currents around it, some turned.
 GOAL = Pose(0.2, -0.3, 0.4)
@@ -70,7 +70,7 @@ def test_warping_s_batch_is_home_pair_by_pair_whatever_the_block(params, monkeyp
     expected = [method.home(c, goal) for c in currents]
     for block in (1, 3, 64):  # currents per matrix product
         monkeypatch.setattr(
-            "homebench.methods.warping_search.SCREEN_BLOCK_BYTES",
+            "homebench.methods.warping.search.SCREEN_BLOCK_BYTES",
             block * 4 * n * method.n_rho * method.n_alpha * n,
         )
         assert method.home_many(currents, goal) == expected

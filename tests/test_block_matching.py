@@ -25,7 +25,7 @@ from synthetic_panorama import home_errors, render, rolled
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
-from homebench.methods.block_matching import (
+from homebench.methods.block_matching.method import (
     LARGEST_BLOCK,
     BlockMatching,
     block_flow,

@@ -22,7 +22,11 @@ from validation_scenes import neighbour_error, neighbours
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
-from homebench.methods.did import DescentInImageDistances, distance_gradient, image_distance
+from homebench.methods.image_difference.did import (
+    DescentInImageDistances,
+    distance_gradient,
+    image_distance,
+)
 
 GOAL = Pose(0.2, -0.3, 0.0)
 STEP = 0.1  # metres between a lattice place and its neighbours

@@ -22,8 +22,8 @@ from homebench.evaluation.features_io import load_features, save_features
 from homebench.evaluation.jobs import _has_features
 from homebench.geometry import PanoramaGeometry
 from homebench.hashing import stable_hash
-from homebench.methods.klt_sector import KltFeatures
-from homebench.methods.sift import SiftFeatures
+from homebench.methods.klt_sector.method import KltFeatures
+from homebench.methods.sift.method import SiftFeatures
 
 
 class _Marker:

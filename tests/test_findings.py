@@ -216,7 +216,7 @@ def test_each_ae_finding_is_tested_with_abstentions_as_90_deg_and_left_out() -> 
 
 
 def test_the_findings_view_says_how_each_ae_finding_counts_a_missing_estimate() -> None:
-    from homebench.report.findings_report import MISSING_NOTE, findings_view
+    from homebench.report.across_runs.findings import MISSING_NOTE, findings_view
 
     pairs, starts = _tables(_paper_world, _paper_rr)
     view = findings_view(findings_table(sift_findings(pairs, starts)))

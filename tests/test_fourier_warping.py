@@ -22,7 +22,7 @@ from validation_scenes import ring_texture
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
-from homebench.methods.fourier_warping import FourierWarping, full_spectrum, warp_matrices
+from homebench.methods.warping.fourier import FourierWarping, full_spectrum, warp_matrices
 
 TOLERANCE = math.radians(20.0)
 STEP = math.radians(5.0)

@@ -10,8 +10,8 @@ from landmark_scene import landmark_view
 
 from homebench.errors import ConfigError
 from homebench.geometry import Pose
-from homebench.methods.alv import AverageLandmarkVector
-from homebench.methods.horizon_landmarks import (
+from homebench.methods.landmarks.alv import AverageLandmarkVector
+from homebench.methods.landmarks.horizon import (
     horizon_sectors,
     merge_narrow,
     otsu_threshold,

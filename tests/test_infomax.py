@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from homebench.errors import ConfigError
-from homebench.methods.infomax import Infomax
+from homebench.methods.familiarity.infomax import Infomax
 
 N_COLUMNS = 36
 COLUMN = 2.0 * math.pi / N_COLUMNS

@@ -157,7 +157,7 @@ def test_builtin_code_version_is_the_package_version_and_a_source_hash() -> None
     assert version.startswith("homebench ")
     assert version == code_version(registry.get("warping"))
     assert version != code_version(registry.get("sift"))
-    assert "homebench.methods.sift" not in source_closure("homebench.methods.warping")
+    assert "homebench.methods.sift.method" not in source_closure("homebench.methods.warping.method")
 
 
 def test_image_tasks_are_equal_and_hash_alike_exactly_when_their_inputs_are(

@@ -20,8 +20,8 @@ from homebench.errors import ConfigError
 from homebench.geometry import PanoramaGeometry, Pose, angular_error, home_direction
 from homebench.methods import registry
 from homebench.methods.base import HomingEstimate, View
-from homebench.methods.klt_sector import KltSector
-from homebench.methods.klt_tracking import KltTracker
+from homebench.methods.klt_sector.method import KltSector
+from homebench.methods.klt_sector.tracking import KltTracker
 
 TOLERANCE = math.radians(10.0)
 GOAL = Pose(0.2, -0.3, 0.4)

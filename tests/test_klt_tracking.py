@@ -21,7 +21,7 @@ from synthetic_panorama import (
 
 from homebench.errors import ConfigError
 from homebench.geometry import Pose
-from homebench.methods.klt_tracking import (
+from homebench.methods.klt_sector.tracking import (
     KltTracker,
     Tracks,
     circular_column_distance,

@@ -77,10 +77,10 @@ def test_the_preload_of_a_run_adds_only_its_methods_kernels() -> None:
     assert preload_for(_entries("warping", "sift", "warping")) == PRELOAD
     assert preload_for(_entries("min-warping", "klt-sector", "min-warping")) == (
         *PRELOAD,
-        "homebench.methods.min_warping_kernels",
-        "homebench.methods.min_warping_preload",
+        "homebench.methods.min_warping.kernels",
+        "homebench.methods.min_warping.preload",
         "homebench.methods.jit_setup",
-        "homebench.methods.sector_law_kernels",
+        "homebench.methods.klt_sector.sector_law_kernels",
     )
 
 

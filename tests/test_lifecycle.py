@@ -15,7 +15,7 @@ from homebench.experiments.route.lifecycle import (
     select_targets,
     shared_ids,
 )
-from homebench.methods.klt_tracking import Tracks
+from homebench.methods.klt_sector.tracking import Tracks
 
 
 def _tracks(ids: list[int], alive: list[bool] | None = None) -> Tracks:

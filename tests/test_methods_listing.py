@@ -18,7 +18,7 @@ from homebench.cli import main
 from homebench.methods import registry
 from homebench.methods.cards import CARD_KEYS, PARAMETER_KEYS, citation
 from homebench.methods.params import ParameterDoc, param, parameter_docs
-from homebench.methods.sift import Sift
+from homebench.methods.sift.method import Sift
 
 
 def _output(*args: str) -> str:

@@ -22,7 +22,7 @@ from synthetic_panorama import home_errors, render, rolled
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
-from homebench.methods.mfdid import MatchedFilterDescent, azimuth_derivative
+from homebench.methods.image_difference.mfdid import MatchedFilterDescent, azimuth_derivative
 
 GOAL = Pose(0.2, -0.3, 0.4)
 ORIGIN = Pose(0.0, 0.0, 0.0)

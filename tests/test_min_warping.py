@@ -24,13 +24,13 @@ from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.min_warping import (
+from homebench.methods.min_warping.method import (
     MinWarping,
     column_distances,
     magnification_matrix,
     quantize,
 )
-from homebench.methods.min_warping_search import (
+from homebench.methods.min_warping.search import (
     CompiledSearch,
     NumpySearch,
     kernels,

@@ -23,7 +23,7 @@ import yaml
 from conftest import run_config
 
 from homebench.analysis.findings import ALPHA
-from homebench.report.findings_report import findings_of_runs
+from homebench.report.across_runs.findings import findings_of_runs
 
 CONFIG = Path(__file__).parent.parent / "configs" / "findings_sift.yaml"
 ROBUST = [

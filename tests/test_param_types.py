@@ -25,7 +25,7 @@ from homebench.experiments.closed_loop.config import load_closed_loop_config
 from homebench.experiments.route.config import load_route_config
 from homebench.methods import registry
 from homebench.methods.param_types import parameter_problem
-from homebench.methods.warping import Warping
+from homebench.methods.warping.method import Warping
 
 #: (warping parameter, value, what the error says) for values of the wrong type.
 BAD = [

@@ -18,8 +18,8 @@ from homebench.geometry import PanoramaGeometry
 from homebench.imaging.rotation import rotate_view
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.familiarity import learns_route, most_familiar, rotations
-from homebench.methods.perfect_memory import PerfectMemory
+from homebench.methods.familiarity.perfect_memory import PerfectMemory
+from homebench.methods.familiarity.route_memory import learns_route, most_familiar, rotations
 
 N = 36
 COLUMN = 2.0 * math.pi / N

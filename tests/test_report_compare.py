@@ -17,8 +17,8 @@ from test_report_runs import FakeMethod, write_fake_run
 
 from homebench.cli import main
 from homebench.errors import ConfigError, DataError
-from homebench.report.compare import Threshold, compare_runs
-from homebench.report.run_set import run_labels
+from homebench.report.across_runs.compare import Threshold, compare_runs
+from homebench.report.across_runs.run_set import run_labels
 from homebench.report.tables import to_csv
 
 #: Six goals: the exact sign-flip test can reach 2 / 2**6 < 0.05.

@@ -17,7 +17,7 @@ from test_report_runs import FakeMethod, write_fake_run
 
 from homebench.cli import main
 from homebench.config import AhcConfig, MetricsConfig
-from homebench.report import document, grid_report
+from homebench.report import document
 from homebench.report.appendix import (
     CONFIG_TITLE,
     DEFINITIONS_TITLE,
@@ -36,7 +36,8 @@ from homebench.report.captions import (
 from homebench.report.definitions import definitions
 from homebench.report.document import load_content, write_report
 from homebench.report.figure_files import draw_figure
-from homebench.report.heatmaps import (
+from homebench.report.grid import report as grid_report
+from homebench.report.grid.heatmaps import (
     HEAT_METRICS,
     _grid,
     heat_metrics,

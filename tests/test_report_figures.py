@@ -22,15 +22,7 @@ from test_report_runs import GRID, FakeMethod, write_fake_run
 from homebench.config import MetricsConfig, ReturnRatioConfig
 from homebench.evaluation.results import build_tables
 from homebench.geometry import Grid
-from homebench.report.figure_data import (
-    Goal,
-    condition_goals,
-    goal_panels,
-    image_describe_times,
-    pages,
-    pick_goals,
-)
-from homebench.report.grid_figures import (
+from homebench.report.grid.field_figures import (
     AE_MAX_DEG,
     MAX_GOALS_PER_FIGURE,
     TITLE_MIN_POINTS,
@@ -41,14 +33,15 @@ from homebench.report.grid_figures import (
     panel_title,
     text_width,
 )
-from homebench.report.grid_report import (
-    _goal_figures,
-    _metric_figures,
-    _rr_walks,
-    grid_figures,
-    run_styles,
+from homebench.report.grid.figure_data import (
+    Goal,
+    condition_goals,
+    goal_panels,
+    image_describe_times,
+    pages,
+    pick_goals,
 )
-from homebench.report.metric_figures import (
+from homebench.report.grid.metric_figures import (
     MAX_RR_BARS,
     ConditionPanel,
     RRPanel,
@@ -58,7 +51,14 @@ from homebench.report.metric_figures import (
     rr_figure,
     timing_figure,
 )
-from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
+from homebench.report.grid.report import (
+    _goal_figures,
+    _metric_figures,
+    _rr_walks,
+    grid_figures,
+    run_styles,
+)
+from homebench.report.route.figures import RouteResult, route_error_figure, route_figure
 from homebench.report.run_data import load_run
 from homebench.report.style import (
     DOUBLE_COLUMN,

@@ -13,7 +13,7 @@ from test_report_runs import FakeMethod, write_fake_run
 
 from homebench.cli import main
 from homebench.errors import DataError
-from homebench.report.leaderboard import BOARD_METRICS, leaderboard
+from homebench.report.across_runs.leaderboard import BOARD_METRICS, leaderboard
 
 CONDITIONS = ("a-a", "a-b")
 

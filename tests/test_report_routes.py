@@ -24,7 +24,7 @@ from homebench.errors import DataError
 from homebench.experiments.route.config import RouteConfig
 from homebench.experiments.route.experiment import RouteJob, RouteTrial, plan_trials
 from homebench.report.document import write_report
-from homebench.report.route_figures import RouteResult, route_error_figure, route_figure
+from homebench.report.route.figures import RouteResult, route_error_figure, route_figure
 from homebench.report.style import method_styles, report_style
 
 STARTED = "2024-05-06T07:08:09+00:00"
@@ -358,7 +358,7 @@ def test_a_run_of_several_methods_compares_them_on_the_same_trials(tmp_path: Pat
     trials = pd.read_csv(tables / "routes.csv")
     assert list(trials["method"][:2]) == ["klt-sector", "warping"] and len(trials) == 12
     # Seed 000's findings are klt-sector's: the other method's trials stay out of them.
-    from homebench.report.findings_report import _route_tables
+    from homebench.report.across_runs.findings import _route_tables
 
     assert list(_route_tables([run])[0]["method"]) == ["klt-sector"] * 6
     figures = sorted(p.name for p in (run / "report" / "figures").glob("*.png"))

@@ -20,7 +20,7 @@ from homebench.evaluation.plan import make_plan
 from homebench.evaluation.sources import load_view, open_source, prepare_sources
 from homebench.geometry import angle_diff
 from homebench.methods.base import HomingEstimate
-from homebench.methods.warping import Warping
+from homebench.methods.warping.method import Warping
 
 ANGLE = 0.25  # the stub's answer in the current robot frame (radians)
 

@@ -34,7 +34,7 @@ from homebench.experiments.route.probes import (
 )
 from homebench.geometry import PanoramaGeometry, Pose
 from homebench.imaging.rotation import rotate_view
-from homebench.methods.perfect_memory import PerfectMemory
+from homebench.methods.familiarity.perfect_memory import PerfectMemory
 from homebench.views import View
 
 # --------------------------------------------------------------------------- probes

@@ -21,7 +21,7 @@ from homebench.experiments.route.visual import (
     refind,
 )
 from homebench.geometry import Pose, angular_error, home_direction
-from homebench.methods.klt_tracking import KltTracker, Tracks
+from homebench.methods.klt_sector.tracking import KltTracker, Tracks
 
 TRACKER = KltTracker()
 GOAL = Pose(0.3, -0.2, 0.5)

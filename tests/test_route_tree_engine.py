@@ -18,7 +18,7 @@ from homebench.evaluation import jobs
 from homebench.evaluation.jobs import read_result, run_describe_job, run_home_job
 from homebench.evaluation.plan import make_plan
 from homebench.evaluation.sources import prepare_sources
-from homebench.methods.klt_tracking import KltTracker
+from homebench.methods.klt_sector.tracking import KltTracker
 
 
 def _run(

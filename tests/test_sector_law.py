@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from homebench.geometry import PanoramaGeometry, Pose, angle_diff, wrap_angle
-from homebench.methods.sector_law import (
+from homebench.methods.klt_sector.sector_law import (
     bearings,
     goal_reached,
     heading_change,
@@ -23,7 +23,7 @@ from homebench.methods.sector_law import (
     order_filter,
     sector_vectors,
 )
-from homebench.methods.sector_law_kernels import first_longest_rotation
+from homebench.methods.klt_sector.sector_law_kernels import first_longest_rotation
 
 GOAL = Pose(0.3, -0.2, 0.7)
 COLUMN = 2.0 * math.pi / 288  # one column of a 288-column panorama

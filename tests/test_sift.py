@@ -25,7 +25,7 @@ from homebench.geometry import (
 )
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.sift import Sift, SiftFeatures, SiftUnfolded, panorama_sides
+from homebench.methods.sift.method import Sift, SiftFeatures, SiftUnfolded, panorama_sides
 
 RAW = WorldSpec().raw.geometry()  # the Bielefeld-format raw camera
 GOAL = Pose(0.2, 0.1, -0.6)

@@ -13,7 +13,7 @@ import pytest
 
 from homebench.data.synth.spec import WorldSpec
 from homebench.geometry import Pose
-from homebench.methods.sift_elimination import (
+from homebench.methods.sift.elimination import (
     half_plane_constraint,
     half_plane_votes,
     horizon_constraint,

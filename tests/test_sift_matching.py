@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from homebench.methods.sift_matching import match_descriptors
+from homebench.methods.sift.matching import match_descriptors
 
 
 def _brute_force(goal, current, ratio, cross_check):

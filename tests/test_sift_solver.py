@@ -22,7 +22,7 @@ from homebench.geometry import (
     home_direction,
     world_direction,
 )
-from homebench.methods.sift_solver import (
+from homebench.methods.sift.solver import (
     choose_triples,
     circular_least_squares,
     estimate_movement,

@@ -23,7 +23,7 @@ from homebench.geometry import Pose, angular_error, home_direction
 from homebench.imaging.rotation import rotate_view
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.sift import SiftFeatures
+from homebench.methods.sift.method import SiftFeatures
 
 SPEC = WorldSpec(seed=0, grid={"shape": [5, 5]})
 GOAL = SPEC.to_grid().position(2, 2)

@@ -23,8 +23,8 @@ from synthetic_panorama import home_errors, render, rolled
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
-from homebench.methods.horizon_landmarks import Sectors
-from homebench.methods.snapshot import SnapshotModel, pair_sectors, snapshot_vectors
+from homebench.methods.landmarks.horizon import Sectors
+from homebench.methods.landmarks.snapshot import SnapshotModel, pair_sectors, snapshot_vectors
 
 GOAL = Pose(0.2, -0.3, 0.4)
 ORIGIN = Pose(0.0, 0.0, 0.0)

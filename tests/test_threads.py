@@ -15,8 +15,9 @@ from threadpoolctl import threadpool_info, threadpool_limits
 
 from homebench.evaluation.isolation import THREAD_LIMITS
 from homebench.geometry import Pose
-from homebench.methods import registry, warping
+from homebench.methods import registry
 from homebench.methods.threads import CALLS
+from homebench.methods.warping import method as warping
 
 USER = 3  # the user's own setting
 
@@ -101,7 +102,7 @@ def test_calls_from_several_threads_share_the_limit():
         _VIEWS
         + """
 import threading
-from homebench.methods import warping
+from homebench.methods.warping import method as warping
 seen = []
 search = warping.search_many
 def probe(*args):

@@ -28,9 +28,9 @@ import pytest
 from validation_scenes import landmark_arena, landmark_scores
 
 from homebench.geometry import angle_diff
-from homebench.methods.alv import AverageLandmarkVector
 from homebench.methods.base import View
-from homebench.methods.horizon_landmarks import LandmarkViews, Sectors
+from homebench.methods.landmarks.alv import AverageLandmarkVector
+from homebench.methods.landmarks.horizon import LandmarkViews, Sectors
 
 SEEDS = (0, 1, 2)  # the arenas of landmark_scores
 

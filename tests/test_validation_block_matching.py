@@ -22,7 +22,7 @@ from synthetic_panorama import render
 from validation_scenes import CENTRE, ahc, arena_errors, ring
 
 from homebench.geometry import TWO_PI, angular_error, home_direction
-from homebench.methods.block_matching import BlockMatching, block_flow, displacements
+from homebench.methods.block_matching.method import BlockMatching, block_flow, displacements
 
 METHOD = BlockMatching()
 PLACES = ring((0.3, 0.6, 0.9), 12)

@@ -19,7 +19,7 @@ import numpy as np
 from synthetic_panorama import render
 from validation_scenes import CENTRE, ahc, neighbour_error, ring
 
-from homebench.methods.did import DescentInImageDistances, image_distance
+from homebench.methods.image_difference.did import DescentInImageDistances, image_distance
 
 STEP = 0.1  # metres between a place and its neighbours
 

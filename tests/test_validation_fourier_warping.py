@@ -20,7 +20,7 @@ import pytest
 from validation_scenes import CENTRE, arena_errors, equal_distance_signals, ring
 
 from homebench.geometry import angular_error, home_direction
-from homebench.methods.fourier_warping import FourierWarping
+from homebench.methods.warping.fourier import FourierWarping
 
 N = 360  # samples of the equal-distance signals
 

@@ -33,7 +33,7 @@ import pytest
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import build_world
 from homebench.geometry import Pose
-from homebench.methods.sector_law import goal_reached, motion_vector, order_filter
+from homebench.methods.klt_sector.sector_law import goal_reached, motion_vector, order_filter
 
 SPEC = WorldSpec(seed=0)
 STOP = 0.001  # |M| in radians

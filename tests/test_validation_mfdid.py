@@ -24,7 +24,7 @@ import pytest
 from validation_scenes import CENTRE, ahc, arena_errors, ring, ring_signal
 
 from homebench.geometry import angular_error
-from homebench.methods.mfdid import MatchedFilterDescent, azimuth_derivative
+from homebench.methods.image_difference.mfdid import MatchedFilterDescent, azimuth_derivative
 
 N = 288
 PHI = 2.0 * np.pi * np.arange(N) / N

@@ -22,8 +22,8 @@ import pytest
 from validation_scenes import CENTRE, arena_errors, rich_texture, ring, use_wall
 
 from homebench.geometry import Pose
-from homebench.methods.min_warping import MinWarping
-from homebench.methods.warping_2d import Warping2D
+from homebench.methods.min_warping.method import MinWarping
+from homebench.methods.warping_2d.method import Warping2D
 
 COLUMN_DEG = 1.25  # one column of the 288-column band
 TURNS_DEG = (0.0, -37.5)

@@ -63,8 +63,8 @@ from homebench.experiments.route.probes import (
     probe_route,
 )
 from homebench.geometry import Pose
-from homebench.methods.infomax import Infomax
-from homebench.methods.perfect_memory import PerfectMemory
+from homebench.methods.familiarity.infomax import Infomax
+from homebench.methods.familiarity.perfect_memory import PerfectMemory
 from homebench.views import View
 
 SPEC = ProbeSpec(spacing_m=0.5, offsets_m=[-1.0, -0.5, -0.25, 0.0, 0.25, 0.5, 1.0])

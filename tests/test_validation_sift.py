@@ -24,7 +24,7 @@ from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import build_world
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods.base import View
-from homebench.methods.sift import Sift, SiftFeatures
+from homebench.methods.sift.method import Sift, SiftFeatures
 
 SPEC = WorldSpec(seed=0, grid={"shape": [5, 5]})
 GOAL = SPEC.to_grid().position(2, 2)

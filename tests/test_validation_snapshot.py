@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from validation_scenes import landmark_scores
 
-from homebench.methods.snapshot import SnapshotModel
+from homebench.methods.landmarks.snapshot import SnapshotModel
 
 
 def test_the_snapshot_model_homes_as_on_its_ground_truth_landmarks():

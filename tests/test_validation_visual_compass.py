@@ -25,7 +25,7 @@ from synthetic_panorama import GEOMETRY, render, rolled
 from validation_scenes import CENTRE, arena_errors, ring
 
 from homebench.geometry import Pose, angular_error
-from homebench.methods.visual_compass import VisualCompass, compass_rotation
+from homebench.methods.image_difference.visual_compass import VisualCompass, compass_rotation
 
 COLUMN = 2.0 * math.pi / GEOMETRY.width
 GOAL = Pose(0.2, -0.3, 0.4)

@@ -19,7 +19,7 @@ import pytest
 from validation_scenes import CENTRE, arena_errors, equal_distance_signals, ring
 
 from homebench.geometry import angular_error, home_direction
-from homebench.methods.warping import Warping
+from homebench.methods.warping.method import Warping
 
 
 @pytest.mark.parametrize(

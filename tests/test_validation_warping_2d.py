@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from validation_scenes import CENTRE, arena_errors, rich_texture, ring, use_wall
 
-from homebench.methods.warping_2d import Warping2D
+from homebench.methods.warping_2d.method import Warping2D
 
 
 def test_equal_distance_arena(monkeypatch: pytest.MonkeyPatch):

@@ -20,7 +20,7 @@ from homebench.errors import ConfigError
 from homebench.geometry import Pose
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.visual_compass import (
+from homebench.methods.image_difference.visual_compass import (
     VisualCompass,
     compass_image,
     compass_rotation,

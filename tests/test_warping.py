@@ -21,7 +21,7 @@ from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.warping import Warping, best_hypothesis, normalize_signal, warp_tables
+from homebench.methods.warping.method import Warping, best_hypothesis, normalize_signal, warp_tables
 
 TOLERANCE = math.radians(15.0)
 STEP = math.radians(5.0)  # one psi step: the rotation is found to within one step

@@ -22,7 +22,7 @@ from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error, home_direction
 from homebench.methods import registry
 from homebench.methods.base import View
-from homebench.methods.warping_2d import (
+from homebench.methods.warping_2d.method import (
     GOAL_CACHE_SIZE,
     Warping2D,
     landmark_distance,

@@ -24,11 +24,11 @@ from validation_scenes import rich_texture, use_wall
 
 from homebench.errors import ConfigError
 from homebench.geometry import Pose, angular_error
-from homebench.methods.min_warping_search import NumpySearch
+from homebench.methods.min_warping.search import NumpySearch
 from homebench.methods.params import paper_statement, parameter_docs
-from homebench.methods.warping import rho_grid
-from homebench.methods.warping_2d import Warping2D
-from homebench.methods.warping_2d_planes import (
+from homebench.methods.warping.method import rho_grid
+from homebench.methods.warping_2d.method import Warping2D
+from homebench.methods.warping_2d.planes import (
     CompiledPlaneSearch,
     ScalePlaneWarping2D,
     plane_template,

@@ -1,4 +1,4 @@
-"""The direct 1-D warping search, the reference of :mod:`homebench.methods.warping_search`:
+"""The direct 1-D warping search, the reference of :mod:`homebench.methods.warping.search`:
 every (rho, alpha, psi) hypothesis warped and compared on its own, with ``np.interp``.
 
 Shared by tests/test_warping.py and benchmarks/bench_warping.py.
@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from homebench.geometry import TWO_PI
-from homebench.methods.warping import Warping
+from homebench.methods.warping.method import Warping
 
 
 def direct_costs(method: Warping, current: np.ndarray, goal: np.ndarray) -> np.ndarray:

@@ -45,8 +45,8 @@ from homebench.errors import DataError
 from homebench.fileio import make_folder, open_regular, write_bytes_atomic
 from homebench.geometry import CatadioptricGeometry, PanoramaGeometry
 from homebench.methods import registry
-from homebench.methods.klt_sector import KltFeatures
-from homebench.methods.sift import SiftFeatures
+from homebench.methods.klt_sector.method import KltFeatures
+from homebench.methods.sift.method import SiftFeatures
 
 FORMAT = 1
 #: Bytes of feature arrays a process keeps from the files it read last.

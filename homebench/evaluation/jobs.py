@@ -10,7 +10,8 @@ them: all in one batch call where the method has one, else each as soon as it is
 (:mod:`~homebench.evaluation.pair_calls`, which also says what the times are). Feature files
 (:mod:`~homebench.evaluation.features_io`) are checked before they are reused.
 
-A method entry's ``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is applied
+A method entry's ``compass``
+(:data:`~homebench.methods.image_difference.visual_compass.CompassMode`) is applied
 here, for any method: with ``visual`` or ``truth`` the current view (and the grid neighbours of
 methods that read them) is turned back by the compass's heading change before the method
 describes it, and the answer is turned into the current robot frame; ``rotation_estimate`` is
@@ -55,7 +56,7 @@ from homebench.evaluation.sources import load_view, open_source
 from homebench.fileio import make_folder, write_bytes_atomic
 from homebench.geometry import Grid, Places, home_direction, missing_positions, world_to_robot_xy
 from homebench.methods.base import batch_home, gives_direction
-from homebench.methods.visual_compass import (
+from homebench.methods.image_difference.visual_compass import (
     compass_turn,
     in_current_frame,
     whole_columns,

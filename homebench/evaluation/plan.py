@@ -15,7 +15,8 @@ it reads (its ``context``): the grid neighbours of methods that sample around th
 (``uses_neighbours``), the route views of methods that track (``uses_route``), the unfolded
 views the visual compass compares and the headings the true compass turns by (a real set's
 poses and camera models are in its identity: :func:`~homebench.evaluation.sources.real_identity`). A
-method entry's ``compass`` (:data:`~homebench.methods.visual_compass.CompassMode`) is part of
+method entry's ``compass`` (:data:`~homebench.methods.image_difference.visual_compass.CompassMode`)
+is part of
 its key; with a compass the current views are described inside the home job (turned back per
 pair), so describe jobs hold its goals only.
 

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from homebench.experiments.scene import turned
 from homebench.geometry import PanoramaGeometry, Pose
 from homebench.methods.base import HomingEstimate, checked_estimate
-from homebench.methods.visual_compass import (
+from homebench.methods.image_difference.visual_compass import (
     CompassMode,
     compass_turn,
     in_current_frame,
@@ -29,7 +29,8 @@ from homebench.views import View
 class MethodHomer:
     """A registered method homing on unfolded views of ``geometry`` towards ``goal`` features.
 
-    ``compass`` (a method entry's, :data:`~homebench.methods.visual_compass.CompassMode`):
+    ``compass`` (a method entry's,
+    :data:`~homebench.methods.image_difference.visual_compass.CompassMode`):
     ``none``, the method sees the view at the robot's heading and must cope with the rotation
     itself; ``truth``, an external compass: the view is turned to the goal snapshot's heading
     ``goal_heading`` (rad) before the method sees it, as the papers align their views;

@@ -1,7 +1,8 @@
 """Route-learning methods steering a robot (perfect-memory, infomax): entries, training, steering.
 
 Shared by the robot experiments. A method that learns a route (``learns_route``, the protocol of
-:mod:`homebench.methods.familiarity`) does not home from a pair of views: it learns the views of
+:mod:`homebench.methods.familiarity.route_memory`) does not home from a pair of views: it learns
+the views of
 a route, each facing the way to go, and steers by the most familiar direction of its memory.
 So its method entry passes other checks than a pairwise method's: it gives no direction on a
 pair (``gives_direction = False``) yet steers a robot, and it needs no compass (it turns its
@@ -23,7 +24,7 @@ from homebench.experiments.scene import turned
 from homebench.geometry import PanoramaGeometry, Pose
 from homebench.methods import registry
 from homebench.methods.base import HomingEstimate
-from homebench.methods.familiarity import learns_route
+from homebench.methods.familiarity.route_memory import learns_route
 from homebench.views import View
 
 

@@ -14,6 +14,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal, Protocol, runtime_checkable
 
+import numpy as np
+
 from homebench.methods.threads import single_threaded
 from homebench.views import ImageKind, View
 
@@ -22,6 +24,16 @@ __all__ = ["HomingEstimate", "HomingMethod", "ImageKind", "RouteShape", "View"]
 #: How the engine lays routes out over a grid for methods that track along them
 #: (:mod:`homebench.evaluation.grid_routes`).
 RouteShape = Literal["tree", "line"]
+
+#: Relative spread below which a signal counts as texture-less.
+FLAT_TOLERANCE = 1e-9
+
+
+def is_flat(signal: np.ndarray) -> bool:
+    """True when ``signal`` (any shape) has no texture to match (spread ~ 0): the test every
+    method makes before it matches, here so that no method's code version follows another's."""
+    high, low = float(signal.max()), float(signal.min())
+    return high - low <= FLAT_TOLERANCE * (1.0 + max(high, -low))
 
 
 @dataclass(frozen=True)

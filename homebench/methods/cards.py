@@ -17,6 +17,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
+from homebench.methods.image_difference.visual_compass import CompassMode
 from homebench.methods.params import (
     WIDTH,
     ParameterDoc,
@@ -27,7 +28,6 @@ from homebench.methods.params import (
     summary,
     type_text,
 )
-from homebench.methods.visual_compass import CompassMode
 
 Format = Literal["text", "md", "json"]
 FORMATS: tuple[Format, ...] = ("text", "md", "json")

@@ -42,7 +42,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 #: The calls of a method class that run with one thread: its protocol
 #: (:class:`~homebench.methods.base.HomingMethod`, ``home_many``, ``describe_route``) and the
-#: route-memory protocol (:mod:`~homebench.methods.familiarity`).
+#: route-memory protocol (:mod:`~homebench.methods.familiarity.route_memory`).
 CALLS = ("describe", "describe_route", "home", "home_many", "learn", "unfamiliarity", "follow")
 
 _LOCK = threading.Lock()

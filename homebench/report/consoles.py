@@ -15,14 +15,14 @@ from typing import Any
 
 import pandas as pd
 
-from homebench.report.closed_loop_report import summary_view
-from homebench.report.route_compare import ODOMETRY, method_view
+from homebench.report.closed_loop.report import summary_view
+from homebench.report.route.compare import ODOMETRY, method_view
 from homebench.report.tables import FIXED2, MISSING_TEXT, TableView, to_text
 
 #: The route summary's catchment of the route-learning methods probed beside their route (the
 #: mean of routes.csv's ``catchment_m`` over trials).
 CATCHMENT = "catchment [m]"
-#: The route summary (:func:`~.route_compare.method_view`): report header -> console header.
+#: The route summary (:func:`~.route.compare.method_view`): report header -> console header.
 ROUTE_COLUMNS = {
     "method": "method",
     "trials": "trials",
@@ -32,7 +32,7 @@ ROUTE_COLUMNS = {
     "path / route length": "path/route",
     CATCHMENT: CATCHMENT,
 }
-#: The closed-loop summary (:func:`~.closed_loop_report.summary_view`): report header ->
+#: The closed-loop summary (:func:`~.closed_loop.report.summary_view`): report header ->
 #: console header.
 CLOSED_LOOP_COLUMNS = {
     "style": "style",

@@ -6,7 +6,7 @@ run are byte-identical.
 
 The PDF: the title page, warnings, the headline and band tables (the others are files), the
 figures (each on an A4 page with its numbered caption below it; a grid run's in the order of
-:mod:`~homebench.report.grid_report`, per-goal figures last) and an appendix: the definitions of
+:mod:`~homebench.report.grid.report`, per-goal figures last) and an appendix: the definitions of
 the metrics and statistics, the resolved config, the environment and the data sets' checksums.
 """
 
@@ -32,7 +32,7 @@ from homebench.fileio import atomic_write, write_text_atomic
 from homebench.report import DEFAULT_MAX_GOALS, reuse
 from homebench.report.appendix import Appendix, run_appendix
 from homebench.report.figure_files import FigureFiles, assemble_pdf
-from homebench.report.grid_report import figures_note, grid_figures, shown_sections
+from homebench.report.grid.report import figures_note, grid_figures, shown_sections
 from homebench.report.host_load import load_note
 from homebench.report.markup import FigureEntry, html_report, markdown_report
 from homebench.report.pages import (
@@ -42,7 +42,7 @@ from homebench.report.pages import (
     title_pages,
     warning_pages,
 )
-from homebench.report.route_report import (
+from homebench.report.route.report import (
     load_route_run,
     route_run_figures,
     route_summary,
@@ -121,7 +121,7 @@ def _route_content(info: RunInfo) -> ReportContent:
 
 
 def _closed_loop_content(info: RunInfo) -> ReportContent:
-    from homebench.report.closed_loop_report import (
+    from homebench.report.closed_loop.report import (
         closed_loop_figures,
         closed_loop_summary,
         closed_loop_views,

@@ -46,7 +46,7 @@ from homebench.fileio import make_folder, write_text_atomic
 from homebench.geometry import Pose
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
-from homebench.methods.visual_compass import CompassMode, compass_turn
+from homebench.methods.image_difference.visual_compass import CompassMode, compass_turn
 from homebench.views import View
 
 #: Bump when a trial's result changes for an unchanged config (invalidates finished trials).

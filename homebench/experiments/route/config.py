@@ -93,7 +93,7 @@ from homebench.experiments.robot import DriftModel, MotionLimits
 from homebench.experiments.route.familiar import FamiliarityParams
 from homebench.experiments.route.pairwise import PairwiseParams
 from homebench.experiments.route.visual import VisualHomingParams
-from homebench.methods.klt_tracking import KltTracker
+from homebench.methods.klt_sector.tracking import KltTracker
 from homebench.yamlio import load_model
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).

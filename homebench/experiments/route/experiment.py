@@ -72,7 +72,7 @@ from homebench.fileio import make_folder, write_text_atomic
 from homebench.geometry import FloatArray, Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
 from homebench.methods import registry
-from homebench.methods.visual_compass import CompassMode
+from homebench.methods.image_difference.visual_compass import CompassMode
 from homebench.views import View
 
 #: Bump when a trial's result changes for an unchanged config (invalidates finished trials).

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from homebench.errors import HomebenchError
-from homebench.methods.klt_tracking import Tracks
+from homebench.methods.klt_sector.tracking import Tracks
 
 IntArray = NDArray[np.int64]
 F32Array = NDArray[np.float32]

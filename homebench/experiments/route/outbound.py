@@ -18,7 +18,7 @@ from homebench.experiments.robot import MotionLimits, Robot, drive_to
 from homebench.experiments.route.lifecycle import FeatureLog
 from homebench.experiments.scene import Camera
 from homebench.geometry import FloatArray, Pose
-from homebench.methods.klt_tracking import KltTracker, Tracks
+from homebench.methods.klt_sector.tracking import KltTracker, Tracks
 
 #: A waypoint counts as reached within this fraction of a step (a driver's precision).
 WAYPOINT_TOLERANCE = 0.2

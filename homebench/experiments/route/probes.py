@@ -37,8 +37,8 @@ from pydantic import BaseModel, ConfigDict, Field, FiniteFloat
 
 from homebench.data.synth.world import PoseError
 from homebench.geometry import FloatArray, PanoramaGeometry, Pose, angle_diff, wrap_angle
-from homebench.methods.familiarity import most_familiar
-from homebench.methods.warping import is_flat
+from homebench.methods.base import is_flat
+from homebench.methods.familiarity.route_memory import most_familiar
 from homebench.views import View
 
 if TYPE_CHECKING:

@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pydantic import BaseModel, ConfigDict, Field
 
-from homebench.methods.visual_compass import ridf
+from homebench.methods.image_difference.visual_compass import ridf
 
 #: Distances within this of the spacing count as reaching it (float sums of steps).
 SPACING_TOLERANCE = 1e-9
@@ -48,7 +48,8 @@ class SnapshotRule(BaseModel):
 def view_distance(image: ArrayLike, snapshot: ArrayLike) -> float:
     """Rotation-invariant distance of two unfolded panoramas of one shape (rows, columns):
     the smallest RMS grey-level difference over all column shifts (the minimum of the
-    rotational image difference function, :func:`~homebench.methods.visual_compass.ridf`), so
+    rotational image difference function,
+    :func:`~homebench.methods.image_difference.visual_compass.ridf`), so
     it does not depend on the two headings."""
     return float(np.min(ridf(image, snapshot)))
 

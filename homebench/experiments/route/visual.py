@@ -34,8 +34,7 @@ from homebench.experiments.route.outbound import Outbound
 from homebench.experiments.route.pairwise import LegStatus
 from homebench.experiments.scene import Camera
 from homebench.geometry import PanoramaGeometry, Pose, wrap_angle
-from homebench.methods.klt_tracking import KltTracker, Tracks
-from homebench.methods.sector_law import (
+from homebench.methods.klt_sector.sector_law import (
     MIN_FEATURES,
     bearings,
     goal_reached,
@@ -43,13 +42,15 @@ from homebench.methods.sector_law import (
     motion_vector,
     order_filter,
 )
+from homebench.methods.klt_sector.tracking import KltTracker, Tracks
 
 
 class VisualHomingParams(BaseModel):
     """``min_shared``: the paper's K; ``goal_threshold`` (rad): stop when |M| is below it;
     ``gain`` (m/rad): step length per unit |M|; ``min_features``: fewest kept features a step
     needs; ``max_leg_steps``: steps after which a leg gives up; ``bisectors``: see
-    :mod:`homebench.methods.sector_law`; ``anchor`` (a departure, off by default): after each
+    :mod:`homebench.methods.klt_sector.sector_law`; ``anchor`` (a departure, off by default): after
+    each
     frame-to-frame step, look for the features again from the target's own panorama and keep
     those found within ``anchor_radius`` pixels of the tracked position (see :func:`anchor`)."""
 

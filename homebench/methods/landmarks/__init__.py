@@ -1,0 +1,2 @@
+"""Horizon landmarks: sectors of the horizon, the average landmark vector (ALV) and the snapshot
+model."""

@@ -1,0 +1,1 @@
+"""Several runs side by side: labels and differences, compare, leaderboard and findings."""
