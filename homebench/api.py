@@ -26,12 +26,13 @@ from typing import TYPE_CHECKING
 import pandas as pd
 
 from homebench.analysis.tables import RunTables
-from homebench.config import RunConfig, config_kind, load_config
+from homebench.config import RunConfig, grid_config, kind_of, load_config
 from homebench.errors import ConfigError, DataError
 from homebench.evaluation.executors import Execution
 from homebench.evaluation.results import build_tables, write_tables
 from homebench.evaluation.runner import RunOutcome, run_plan
 from homebench.suggest import unknown
+from homebench.yamlio import read_yaml
 
 if TYPE_CHECKING:  # matplotlib is imported by the functions that draw
     from matplotlib.figure import Figure
@@ -53,6 +54,7 @@ def run_grid(
     config_path: Path,
     overrides: Sequence[str] = (),
     *,
+    config: RunConfig | None = None,
     jobs: int | None = None,
     timeout_s: float | None = None,
     backend: str = "local",
@@ -65,11 +67,14 @@ def run_grid(
 ) -> GridRun:
     """Run a grid config (``key=value`` ``overrides`` applied) and write its tables: the
     engine of ``homebench run``, whose options the keywords are (``jobs`` and ``timeout_s``
-    default to the config's). ``show_progress`` shows the bars of world generation (on a
-    terminal) and of the jobs."""
+    default to the config's). ``config``: the config as read from ``config_path`` with
+    ``overrides``, by a caller that read it to learn its kind (read here when None: a file is
+    read once). ``show_progress`` shows the bars of world generation (on a terminal) and of the
+    jobs."""
     from homebench.data.progress import progress_bars
 
-    config = load_config(Path(config_path), overrides)
+    if config is None:
+        config = load_config(Path(config_path), overrides)
     execution = Execution(
         jobs=jobs if jobs is not None else config.jobs,
         backend=backend,
@@ -112,12 +117,14 @@ def run(
     carry the error; this warns once.
     """
     config_path = Path(config_path)
-    kind = config_kind(config_path, overrides)
-    if kind != "grid":
-        raise ConfigError(f"{config_path}: a {kind} config; run it with `homebench run`")
     if run_dir is not None:  # a JSON string is a YAML string: any path survives the parser
         overrides = [*overrides, f"output={json.dumps(str(run_dir))}"]
-    done = run_grid(config_path, overrides, jobs=jobs, show_progress=progress)
+    document = read_yaml(config_path, "config", overrides)  # the one read of the file
+    kind = kind_of(document.data)
+    if kind != "grid":
+        raise ConfigError(f"{config_path}: a {kind} config; run it with `homebench run`")
+    config = grid_config(document)
+    done = run_grid(config_path, overrides, config=config, jobs=jobs, show_progress=progress)
     pairs = done.tables.pairs
     failed = len(done.outcome.failures) + (int(pairs["error"].notna().sum()) if len(pairs) else 0)
     if failed:

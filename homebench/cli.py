@@ -13,7 +13,6 @@ import os
 import re
 import signal
 import sys
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Literal
 
@@ -321,25 +320,22 @@ def _format_summary(tables: Any, config: Any) -> str:
 
 def _run_experiment(
     kind: str,
+    config: Any,
     config_file: Path,
-    overrides: Sequence[str],
     jobs: int | None,
     force: bool,
     no_progress: bool,
     no_report: bool,
 ) -> None:
     """``homebench run`` of a robot experiment: a route (``kind: route``) or closed-loop
-    homing config (``kind: closed-loop``)."""
+    homing ``config`` (``kind: closed-loop``), read from ``config_file``."""
     if kind == "route":
-        from homebench.experiments.route.config import load_route_config as load
         from homebench.experiments.route.experiment import run_route_experiment as run_kind
     else:
-        from homebench.experiments.closed_loop.config import load_closed_loop_config as load
         from homebench.experiments.closed_loop.experiment import (
             run_closed_loop_experiment as run_kind,
         )
 
-    config = load(config_file, overrides)
     outcome = run_kind(config, config_file, jobs=jobs, force=force, show_progress=not no_progress)
     for note in outcome.notes:
         _say("note: ", note)
@@ -464,10 +460,13 @@ def run(
     """
     check_run_space()
     from homebench.api import run_grid
-    from homebench.config import config_kind
+    from homebench.config import grid_config, kind_of
     from homebench.errors import ConfigError
+    from homebench.experiments.config_files import validated_config
+    from homebench.yamlio import read_yaml
 
-    kind = config_kind(config_file, overrides)
+    document = read_yaml(config_file, "config", overrides)  # the one read of the file
+    kind = kind_of(document.data)
     if kind != "grid":
         grid_only = backend != "local" or shard is not None or check or retry_failed or update
         if grid_only:
@@ -476,12 +475,14 @@ def run(
                 f"runs, not {kind} runs"
             )
         if timeout is not None:  # the config's key: the resolved config shows the value used
-            overrides = (*overrides, f"job_timeout_s={timeout!r}")
-        _run_experiment(kind, config_file, overrides, jobs, force, no_progress, no_report)
+            document = document.overridden([f"job_timeout_s={timeout!r}"])
+        config = validated_config(document)
+        _run_experiment(kind, config, config_file, jobs, force, no_progress, no_report)
         return
     done = run_grid(
         config_file,
         overrides,
+        config=grid_config(document),
         jobs=jobs,
         timeout_s=timeout,
         backend=backend,

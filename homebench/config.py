@@ -51,7 +51,7 @@ from homebench.methods.image_difference.visual_compass import CompassMode
 from homebench.methods.param_types import parameter_problem
 from homebench.strict import StrictModel
 from homebench.suggest import did_you_mean
-from homebench.yamlio import load_model, load_yaml_mapping
+from homebench.yamlio import YamlDocument, read_yaml, validate
 
 ALIAS = re.compile(r"^[A-Za-z0-9_]+$")
 #: Largest seed a sweep takes: the tables' ``seed`` column holds 64-bit integers.
@@ -444,16 +444,16 @@ def kind_of(data: Mapping[str, Any]) -> str:
     return kind if kind in ROBOT_KINDS else "grid"
 
 
-def config_kind(path: Path, overrides: Sequence[str] = ()) -> str:
-    """The experiment kind a config file declares (:func:`kind_of`)."""
-    return kind_of(load_yaml_mapping(path, what="config", overrides=overrides))
-
-
 def load_config(path: Path, overrides: Sequence[str] = ()) -> RunConfig:
-    """Read and validate a run config with ``key.path=value`` ``overrides``; every problem is
-    a ConfigError naming file and key."""
-    config = load_model(RunConfig, path, what="config", overrides=overrides)
-    check_entries(path, config.methods)
+    """Read and validate a grid run config with ``key.path=value`` ``overrides``; every problem
+    is a ConfigError naming file and key."""
+    return grid_config(read_yaml(path, "config", overrides))
+
+
+def grid_config(document: YamlDocument) -> RunConfig:
+    """A grid run's config from its YAML document (:func:`homebench.yamlio.read_yaml`)."""
+    config = validate(RunConfig, document)
+    check_entries(Path(document.origin), config.methods)
     return config
 
 

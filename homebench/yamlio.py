@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -61,18 +62,40 @@ def _read(path: Path, what: str) -> str:
     return read_small_text(path, MAX_YAML_BYTES, what, ConfigError)
 
 
+@dataclass(frozen=True)
+class YamlDocument:
+    """A YAML mapping as read once: its data with the overrides applied, its node graph (the
+    line of each key, for errors) and its origin (the file name every error starts with)."""
+
+    data: dict[str, Any]
+    node: yaml.Node
+    origin: str
+
+    def overridden(self, overrides: Sequence[str]) -> YamlDocument:
+        """This document with more ``key.path=value`` ``overrides`` applied."""
+        return YamlDocument(
+            apply_overrides(self.data, overrides, self.origin), self.node, self.origin
+        )
+
+
+def read_yaml(path: Path, what: str = "file", overrides: Sequence[str] = ()) -> YamlDocument:
+    """Read a YAML file that must hold a mapping, with ``overrides`` applied (see
+    :func:`apply_overrides`); not yet validated (:func:`validate`)."""
+    return parse_yaml(_read(path, what), str(path), what, overrides)
+
+
+def parse_yaml(
+    text: str, origin: str, what: str = "file", overrides: Sequence[str] = ()
+) -> YamlDocument:
+    """The YAML mapping in ``text`` with ``overrides`` applied; ``origin`` starts every error."""
+    data, node = _parse_mapping(text, origin, what)
+    return YamlDocument(apply_overrides(data, overrides, origin), node, origin)
+
+
 def load_model(model: type[M], path: Path, what: str = "file", overrides: Sequence[str] = ()) -> M:
-    """Read a YAML file, apply ``overrides`` (see :func:`apply_overrides`) and validate it
-    against ``model`` (``what`` names it in errors)."""
-    return parse_model(model, _read(path, what), str(path), what, overrides)
-
-
-def load_yaml_mapping(
-    path: Path, what: str = "file", overrides: Sequence[str] = ()
-) -> dict[str, Any]:
-    """Read a YAML file that must hold a mapping (not validated against a model)."""
-    data, _ = _parse_mapping(_read(path, what), str(path), what)
-    return apply_overrides(data, overrides, str(path))
+    """Read a YAML file, apply ``overrides`` and validate it against ``model`` (``what`` names
+    it in errors)."""
+    return validate(model, read_yaml(path, what, overrides))
 
 
 def apply_overrides(data: dict[str, Any], overrides: Sequence[str], origin: str) -> dict[str, Any]:
@@ -254,13 +277,18 @@ def parse_model(
 ) -> M:
     """Validate YAML ``text`` (with ``overrides`` applied) against ``model``; ``origin`` (a
     file name) starts every error."""
-    data, node = _parse_mapping(text, origin, what)
-    data = apply_overrides(data, overrides, origin)
+    return validate(model, parse_yaml(text, origin, what, overrides))
+
+
+def validate(model: type[M], document: YamlDocument) -> M:
+    """``document`` validated against ``model``; a ConfigError listing each problem as
+    ``file:line: key.path: message``."""
     try:
-        return model.model_validate(data)
+        return model.model_validate(document.data)
     except ValidationError as error:
         errors = error.errors()
-        lines = [_describe(e, node, origin) for e in errors[:MAX_REPORTED_ERRORS]]
+        origin = document.origin
+        lines = [_describe(e, document.node, origin) for e in errors[:MAX_REPORTED_ERRORS]]
         if len(errors) > MAX_REPORTED_ERRORS:
             lines.append(f"{origin}: and {len(errors) - MAX_REPORTED_ERRORS} more problems")
         raise ConfigError("\n".join(lines)) from None

@@ -8,21 +8,23 @@ import pytest
 import yaml
 from conftest import run_config
 
-from homebench.config import config_kind, load_config
-from homebench.experiments.closed_loop.config import load_closed_loop_config
-from homebench.experiments.route.config import load_route_config
+from homebench.config import RunConfig
+from homebench.experiments.closed_loop.config import ClosedLoopConfig
+from homebench.experiments.config_files import validated_config
+from homebench.yamlio import read_yaml
 
 CONFIGS = sorted((Path(__file__).parent.parent / "configs").glob("*.yaml"))
 
 
 @pytest.mark.parametrize("path", CONFIGS, ids=lambda p: p.name)
 def test_shipped_config_is_valid(path: Path) -> None:
-    if config_kind(path) == "route":
-        assert load_route_config(path).routes
-    elif config_kind(path) == "closed-loop":
-        assert load_closed_loop_config(path).labels()
+    config = validated_config(read_yaml(path, "config"))
+    if isinstance(config, RunConfig):
+        assert config.methods
+    elif isinstance(config, ClosedLoopConfig):
+        assert config.labels()
     else:
-        assert load_config(path).methods
+        assert config.routes
 
 
 @pytest.mark.slow  # CI time: .ci/run runs `homebench run configs/smoke.yaml --check` itself

@@ -80,7 +80,7 @@ def test_a_shared_subtree_is_visited_once(tmp_path: Path) -> None:
     text = _alias_bomb(levels=3, fan_out=9) + "name: shared\n"
     path = tmp_path / "shared.yaml"
     path.write_text(text)
-    assert yamlio.load_yaml_mapping(path)["name"] == "shared"
+    assert yamlio.read_yaml(path).data["name"] == "shared"
 
 
 @pytest.mark.parametrize(
@@ -134,4 +134,4 @@ def test_shipped_files_fit_the_caps_with_room(monkeypatch: pytest.MonkeyPatch) -
     for path in manifests:
         assert load_manifest(path).name == path.stem
     for path in configs:
-        assert yamlio.load_yaml_mapping(path)
+        assert yamlio.read_yaml(path).data

@@ -93,7 +93,7 @@ from homebench.data.synth.spec import Style, WorldSpec
 from homebench.experiments.memory import check_robot_entries, is_memory_method
 from homebench.experiments.robot import DriftModel, MotionLimits
 from homebench.geometry import Pose, wrap_angle
-from homebench.yamlio import load_model
+from homebench.yamlio import YamlDocument, read_yaml, validate
 
 #: The style name of a database run's trials (it has no world style).
 DATABASE_STYLE = "database"
@@ -375,6 +375,11 @@ class ResolvedClosedLoopConfig(ClosedLoopConfig):
 def load_closed_loop_config(path: Path, overrides: Sequence[str] = ()) -> ClosedLoopConfig:
     """Read and validate a closed-loop config with ``key.path=value`` ``overrides``; problems
     are ConfigErrors naming file and key. Methods are checked by creating them."""
-    config = load_model(ClosedLoopConfig, path, what="config", overrides=overrides)
-    check_robot_entries(path, config.methods, robot="closed-loop")
+    return closed_loop_config(read_yaml(path, "config", overrides))
+
+
+def closed_loop_config(document: YamlDocument) -> ClosedLoopConfig:
+    """A closed-loop run's config from its YAML document (:func:`homebench.yamlio.read_yaml`)."""
+    config = validate(ClosedLoopConfig, document)
+    check_robot_entries(document.origin, config.methods, robot="closed-loop")
     return config

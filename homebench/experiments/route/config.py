@@ -94,7 +94,7 @@ from homebench.experiments.route.familiar import FamiliarityParams
 from homebench.experiments.route.pairwise import PairwiseParams
 from homebench.experiments.route.visual import VisualHomingParams
 from homebench.methods.klt_sector.tracking import KltTracker
-from homebench.yamlio import load_model
+from homebench.yamlio import YamlDocument, read_yaml, validate
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).
 KLT_SECTOR = "klt-sector"
@@ -431,4 +431,9 @@ def _method_problem(k: int, entry: MethodEntry) -> str:
 def load_route_config(path: Path, overrides: Sequence[str] = ()) -> RouteConfig:
     """Read and validate a route config with ``key.path=value`` ``overrides``; problems are
     ConfigErrors naming file and key."""
-    return load_model(RouteConfig, path, what="config", overrides=overrides)
+    return route_config(read_yaml(path, "config", overrides))
+
+
+def route_config(document: YamlDocument) -> RouteConfig:
+    """A route run's config from its YAML document (:func:`homebench.yamlio.read_yaml`)."""
+    return validate(RouteConfig, document)
