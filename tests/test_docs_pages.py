@@ -1,10 +1,13 @@
-"""The architecture page's code layout is the package's: every subpackage of homebench is
-drawn at its place, and every folder drawn is a package (docs/architecture.md, "Code layout")."""
+"""What the pages say of the code is the code's: the architecture page's code layout is the
+package tree (docs/architecture.md, "Code layout"), and every ``kind:`` the README and the
+pages name is a kind a config can declare."""
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
+
+from homebench.config import ROBOT_KINDS
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "architecture.md"
@@ -35,3 +38,14 @@ def test_the_code_layout_draws_every_package_where_it_is() -> None:
         str(init.parent.relative_to(ROOT)) for init in (ROOT / "homebench").rglob("__init__.py")
     }
     assert drawn_folders() == packages
+
+
+def test_every_kind_the_pages_name_is_a_kind_of_config() -> None:
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    named = {
+        (page.name, kind)
+        for page in pages
+        for kind in re.findall(r"\bkind: ([\w-]+)", page.read_text())
+    }
+    assert named, "no page names a kind"
+    assert {(page, kind) for page, kind in named if kind not in {"grid", *ROBOT_KINDS}} == set()
