@@ -64,15 +64,11 @@ JobTimeout = Annotated[float, Field(gt=0)] | None
 DEFAULT_JOB_TIMEOUT_S = 3600.0
 
 
-#: Every config model's base (kept under its old name for this module's classes).
-_Strict = StrictModel
-
-
 #: The keys of a database entry that state a Brains on Board folder's conventions.
 _BOB_KEYS = ("images", "headings", "grid", "missing_poses")
 
 
-class DatabaseRef(_Strict):
+class DatabaseRef(StrictModel):
     """A database of the run: a known name, manifest path or Brains on Board folder (``name``),
     or an inline ``world``. ``images`` (the camera model), ``headings`` (how headings are
     written), ``grid`` (the labels' order) and ``missing_poses`` (rows without a pose) state a
@@ -106,12 +102,12 @@ class DatabaseRef(_Strict):
         return BobOverrides(**given) if given else None
 
 
-class RandomGoals(_Strict):
+class RandomGoals(StrictModel):
     random: int = Field(ge=1)
     seed: int = Field(0, ge=0)
 
 
-class CurrentRange(_Strict):
+class CurrentRange(StrictModel):
     """Current positions whose distance to the goal lies in [min_distance, max_distance] metres."""
 
     min_distance: float = Field(0.0, ge=0)
@@ -124,7 +120,7 @@ class CurrentRange(_Strict):
         return self
 
 
-class MethodEntry(_Strict):
+class MethodEntry(StrictModel):
     """A method with parameters; ``grid`` sweeps parameters (every combination of its lists);
     ``compass`` aligns the current view with the goal's before any method sees it (engine
     level: :data:`homebench.methods.visual_compass.CompassMode`)."""
@@ -179,7 +175,7 @@ class MethodEntry(_Strict):
 RRNoEstimate = Literal["fail", "arrived"]
 
 
-class ReturnRatioConfig(_Strict):
+class ReturnRatioConfig(StrictModel):
     """Seed 001's return ratio: step ``rh``, ``success_radius`` and ``max_travel`` in grid units
     (multiples of the grid spacing), and how a walk ends on a position without an estimate
     (``no_estimate``, :data:`RRNoEstimate`)."""
@@ -196,7 +192,7 @@ class ReturnRatioConfig(_Strict):
 AhcDefinition = Literal["cos_mean_ae", "mean_cos"]
 
 
-class AhcConfig(_Strict):
+class AhcConfig(StrictModel):
     """The AHC: its distance bins (cm), how a pair without an estimate enters it (``exclude``:
     left out, the paper's reading; ``orthogonal``: as 90 deg) and its ``definition``: seed
     001's eq. 12, ``cos_mean_ae`` (the cosine of the mean AE), or ``mean_cos`` (the mean of the
@@ -220,7 +216,7 @@ class AhcConfig(_Strict):
         return self
 
 
-class MetricsConfig(_Strict):
+class MetricsConfig(StrictModel):
     """The metrics: the AHC's, the return ratio's, Möller's catchment, and the edges of the
     distance bands (m, increasing) the band table reports the headline metrics in (the
     defaults: near, below 1.2 m; mid, to 2.4 m; far, beyond), so that one mean does not blend
@@ -243,14 +239,14 @@ class MetricsConfig(_Strict):
         return edges
 
 
-class RotationConfig(_Strict):
+class RotationConfig(StrictModel):
     """Rotate every current view by a random whole number of columns (seeded)."""
 
     enabled: bool = False
     seed: int = Field(0, ge=0)
 
 
-class UnfoldConfig(_Strict):
+class UnfoldConfig(StrictModel):
     """Panorama made from raw images for methods that need unfolded views (raw-only databases)."""
 
     width: int = Field(288, ge=16)
@@ -272,7 +268,7 @@ class UnfoldConfig(_Strict):
         )
 
 
-class Check(_Strict):
+class Check(StrictModel):
     """Thresholds a method must meet for ``homebench run --check``, in every condition or in
     the ``conditions`` listed."""
 
@@ -284,7 +280,7 @@ class Check(_Strict):
     no_estimate_max: float | None = Field(None, ge=0, le=1)
 
 
-class RunConfig(_Strict):
+class RunConfig(StrictModel):
     """A grid run (no ``kind``, or ``kind: grid``): every (goal, current) pair of its databases'
     grids, for each condition and method entry."""
 

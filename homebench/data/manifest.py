@@ -27,7 +27,6 @@ from typing import Annotated, Any, Literal
 import numpy as np
 import yaml
 from pydantic import (
-    BaseModel,
     ConfigDict,
     Field,
     SerializerFunctionWrapHandler,
@@ -41,6 +40,7 @@ from homebench.data.synth.spec import WorldSpec
 from homebench.errors import DataError
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
 from homebench.image_header import size_problem
+from homebench.strict import StrictTypesModel
 from homebench.views import ImageKind
 from homebench.yamlio import load_model, parse_model
 
@@ -64,10 +64,6 @@ Sha256 = Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")]
 Fingerprint = Annotated[str, Field(pattern=r"^[0-9]{1,9}:[0-9]{1,9}:[0-9a-f]{66}$")]
 Name = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")]
 Direction = Literal["ccw", "cw"]
-
-
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
 def _relative_posix(value: str, what: str) -> str:
@@ -109,7 +105,7 @@ def _field_text(field: str, spec: str, conversion: str | None) -> str:
     return f"{{{field}{conversion}{':' if spec else ''}{spec}}}"
 
 
-class Source(_Strict):
+class Source(StrictTypesModel):
     """Where a real set comes from and which environment variable points at a local copy."""
 
     citation: str  # how to cite the set
@@ -118,7 +114,7 @@ class Source(_Strict):
     path_env: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")] | None = None
 
 
-class GridSection(_Strict):
+class GridSection(StrictTypesModel):
     """The capture grid: labels (X, Y: a file name's, a ``headings_deg`` key) spanning
     ``shape`` = [nx, ny], the positions ``spacing`` metres apart. ``order`` says at which
     position each label's image was taken (:mod:`homebench.data.grid_order`): as written, the
@@ -163,7 +159,7 @@ class GridSection(_Strict):
         return Grid(self.shape, self.spacing, self.origin)
 
 
-class CatadioptricSection(_Strict):
+class CatadioptricSection(StrictTypesModel):
     """Raw-image camera model (see geometry.CatadioptricGeometry), angles in degrees."""
 
     centre: FloatPair  # pixel coordinates of the mirror axis
@@ -208,7 +204,7 @@ class CatadioptricSection(_Strict):
         )
 
 
-class PanoramaSection(_Strict):
+class PanoramaSection(StrictTypesModel):
     """Unfolded-panorama camera model (see geometry.PanoramaGeometry), angles in degrees."""
 
     elevation_top_deg: float  # elevation of the upper edge of the first row
@@ -254,7 +250,7 @@ def _degrees(radians: float) -> float:
     return round(math.degrees(radians), 9)
 
 
-class ImageSection(_Strict):
+class ImageSection(StrictTypesModel):
     """Where one kind of image lives (base of RawImages and UnfoldedImages).
 
     Files are ``folder``/``pattern`` per grid position, all of one ``size`` [width, height].
@@ -436,7 +432,7 @@ class UnfoldedImages(ImageSection):
         return self
 
 
-class ImagesSection(_Strict):
+class ImagesSection(StrictTypesModel):
     """The image kinds of a database: one or both of ``raw`` and ``unfolded``."""
 
     raw: RawImages | None = None
@@ -449,14 +445,14 @@ class ImagesSection(_Strict):
         return self
 
 
-class Generator(_Strict):
+class Generator(StrictTypesModel):
     """A generated set: the world spec (all fields) and the spec key its files were made with."""
 
     spec: WorldSpec
     key: Annotated[str, Field(pattern=r"^[0-9a-f]{16}$")] | None = None
 
 
-class Manifest(_Strict):
+class Manifest(StrictTypesModel):
     """One grid database: see the module docstring and ``data_manifests/*.yaml``."""
 
     schema_version: Literal[1] = Field(alias="schema")  # the manifest format's version

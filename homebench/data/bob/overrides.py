@@ -33,19 +33,16 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from homebench.data.grid_order import GridOrder
 from homebench.data.manifest import CatadioptricSection, Name, PanoramaSection
 from homebench.geometry import Direction, HeadingConvention
+from homebench.strict import StrictTypesModel
 from homebench.yamlio import load_model
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-
-class PanoramaOverride(_Strict):
+class PanoramaOverride(StrictTypesModel):
     """A manifest's panorama section whose keys may be left out: those keep the database's
     defaults (:func:`over`)."""
 
@@ -60,22 +57,22 @@ class PanoramaOverride(_Strict):
         return PanoramaSection.model_validate({**base, **self.model_dump(exclude_none=True)})
 
 
-class UnfoldedOverride(_Strict):
+class UnfoldedOverride(StrictTypesModel):
     panorama: PanoramaOverride
 
 
-class RawOverride(_Strict):
+class RawOverride(StrictTypesModel):
     catadioptric: CatadioptricSection
 
 
-class ImageOverrides(_Strict):
+class ImageOverrides(StrictTypesModel):
     """The camera model of one image kind (a database holds one)."""
 
     raw: RawOverride | None = None
     unfolded: UnfoldedOverride | None = None
 
 
-class HeadingsOverride(_Strict):
+class HeadingsOverride(StrictTypesModel):
     """How ``Heading [degrees]`` is written: ``zero_deg`` is the world direction (degrees, ccw
     from +x) of a heading of 0, ``direction`` the way headings grow seen from above. A key
     left out keeps the default (:data:`~homebench.data.bob.conventions.BOB_HEADINGS`)."""
@@ -91,7 +88,7 @@ class HeadingsOverride(_Strict):
         )
 
 
-class GridOverride(_Strict):
+class GridOverride(StrictTypesModel):
     """How a grid's labels (Grid X, Grid Y) map to the positions its images were taken at."""
 
     order: GridOrder = "as-written"
@@ -101,7 +98,7 @@ class GridOverride(_Strict):
 MissingPoses = Literal["skip", "interpolate"]
 
 
-class BobOverrides(_Strict):
+class BobOverrides(StrictTypesModel):
     """``homebench.yaml`` of a Brains on Board database: see the module docstring."""
 
     name: Name | None = None

@@ -86,13 +86,13 @@ from homebench.config import (
     JobTimeout,
     MethodEntry,
     UnfoldConfig,
-    _Strict,
     method_points,
 )
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.experiments.memory import check_robot_entries, is_memory_method
 from homebench.experiments.robot import DriftModel, MotionLimits
 from homebench.geometry import Pose, wrap_angle
+from homebench.strict import StrictModel
 from homebench.yamlio import load_model
 
 #: The style name of a database run's trials (it has no world style).
@@ -103,7 +103,7 @@ CONTROLS: tuple[Control, ...] = ("truth", "random")
 Region = tuple[FiniteFloat, FiniteFloat, FiniteFloat, FiniteFloat]
 
 
-class GoalSpec(_Strict):
+class GoalSpec(StrictModel):
     """A goal: ``at`` (x, y) metres in the config's frame, or ``grid`` (i, j) capture-grid
     indices; ``heading_deg`` of its snapshot (default 0)."""
 
@@ -131,7 +131,7 @@ def _ordered(region: Region | None) -> Region | None:
     return region
 
 
-class LatticeStarts(_Strict):
+class LatticeStarts(StrictModel):
     """Starts on a square lattice of ``spacing`` metres over ``region`` (default: the capture
     grid's extent), the first node at the region's corner; each start's cell is spacing^2.
     ``heading_deg``: every start's heading (world frame); None: seeded uniform headings."""
@@ -150,7 +150,7 @@ class LatticeStarts(_Strict):
         return nx, ny
 
 
-class RandomStarts(_Strict):
+class RandomStarts(StrictModel):
     """``random`` starts drawn uniformly over ``region`` (seeded by ``seed``); each stands for
     region area / random of the floor. ``heading_deg`` as for lattice starts."""
 
@@ -213,7 +213,7 @@ class ClosedLoopMotion(MotionLimits):
         return 2.0 * self.success_radius
 
 
-class RenderConfig(_Strict):
+class RenderConfig(StrictModel):
     """Views of a generated world: rendered at heading 0 on a ``lattice`` (metres) and turned
     by whole columns; ``cache_mb`` bounds the run folder's view cache, ``memory_views`` each
     worker's in-memory LRU. ``lattice: null`` renders every pose exactly (no cache)."""
@@ -223,7 +223,7 @@ class RenderConfig(_Strict):
     memory_views: int = Field(512, ge=0)
 
 
-class TrainingRoutes(_Strict):
+class TrainingRoutes(StrictModel):
     """What methods that learn a route learn for each goal: ``routes`` straight routes into it
     from equally spaced directions, ``length_m`` long, a view every ``spacing_m`` metres facing
     the goal (see the module docstring)."""
@@ -256,7 +256,7 @@ class TrainingRoutes(_Strict):
         return poses
 
 
-class ClosedLoopConfig(_Strict):
+class ClosedLoopConfig(StrictModel):
     """A closed-loop homing experiment: a scene, methods and controls, goals, starts, motion."""
 
     kind: Literal["closed-loop"]

@@ -65,8 +65,6 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import (
-    BaseModel,
-    ConfigDict,
     Field,
     FiniteFloat,
     SerializerFunctionWrapHandler,
@@ -94,6 +92,7 @@ from homebench.experiments.route.familiar import FamiliarityParams
 from homebench.experiments.route.pairwise import PairwiseParams
 from homebench.experiments.route.visual import VisualHomingParams
 from homebench.methods.klt_tracking import KltTracker
+from homebench.strict import StrictModel
 from homebench.yamlio import load_model
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).
@@ -107,11 +106,7 @@ RECORDED = "recorded"
 MIN_STEP_M = 1e-3
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class RouteSpec(_Strict):
+class RouteSpec(StrictModel):
     """An outbound route: ``waypoints`` (metres, home first) driven in order.
 
     ``frame``: ``world`` (the waypoints are world coordinates) or ``grid`` (metres from the
@@ -258,7 +253,7 @@ class RouteSpec(_Strict):
         return math.atan2(y1 - y0, x1 - x0)
 
 
-class RouteConfig(_Strict):
+class RouteConfig(StrictModel):
     """A route-homing experiment: a generated world, routes, the robot, the tracker, homing."""
 
     kind: Literal["route"]
