@@ -75,12 +75,14 @@ class DatabaseRef(StrictModel):
     Brains on Board folder's conventions, as its ``homebench.yaml`` would
     (:mod:`homebench.data.bob.overrides`), replacing the file's and what is assumed."""
 
-    name: str | None = None
+    name: str | None = None  # a known database name, a manifest path or a BoB folder
     path: Path | None = None  # root of a real set's copy (overrides the manifest's env variable)
-    world: WorldSpec | None = None
-    images: ImageOverrides | None = None
+    world: WorldSpec | None = None  # an inline generated world (instead of name)
+    images: ImageOverrides | None = None  # a BoB folder's camera model (raw or unfolded)
+    # how a BoB folder's Heading [degrees] is written (default: compass bearings, 0 = +y, cw)
     headings: HeadingsOverride | None = None
-    grid: GridOverride | None = None
+    grid: GridOverride | None = None  # the order of a BoB grid's labels (Grid X, Grid Y)
+    # a BoB folder's rows without X, Y or Heading: skip (default) or interpolate them
     missing_poses: MissingPoses | None = None
 
     @model_validator(mode="after")
@@ -103,15 +105,17 @@ class DatabaseRef(StrictModel):
 
 
 class RandomGoals(StrictModel):
-    random: int = Field(ge=1)
-    seed: int = Field(0, ge=0)
+    """Goals drawn at random from a database's grid positions."""
+
+    random: int = Field(ge=1)  # how many goals, drawn without replacement
+    seed: int = Field(0, ge=0)  # seed of the draw
 
 
 class CurrentRange(StrictModel):
     """Current positions whose distance to the goal lies in [min_distance, max_distance] metres."""
 
-    min_distance: float = Field(0.0, ge=0)
-    max_distance: float = Field(float("inf"), gt=0)
+    min_distance: float = Field(0.0, ge=0)  # metres from the goal, inclusive
+    max_distance: float = Field(float("inf"), gt=0)  # metres from the goal, inclusive
 
     @model_validator(mode="after")
     def _ordered(self) -> CurrentRange:
@@ -125,10 +129,13 @@ class MethodEntry(StrictModel):
     ``compass`` aligns the current view with the goal's before any method sees it (engine
     level: :data:`homebench.methods.visual_compass.CompassMode`)."""
 
-    method: str
-    label: str | None = None
-    params: dict[str, Any] = Field(default_factory=dict)
+    method: str  # a registered method's name (`homebench methods` lists them)
+    label: str | None = None  # its name in tables and reports; default: the method's name
+    params: dict[str, Any] = Field(default_factory=dict)  # parameter -> value (see Methods)
+    # parameter -> list of values: one entry per combination, labelled label[name=value,...]
     grid: dict[str, list[Any]] = Field(default_factory=dict)
+    # none: views as taken; visual: the current view turned back by the visual compass's
+    # RIDF minimum against the goal's; truth: turned back by the true heading change
     compass: CompassMode = "none"
 
     @field_validator("grid")
@@ -180,9 +187,11 @@ class ReturnRatioConfig(StrictModel):
     (multiples of the grid spacing), and how a walk ends on a position without an estimate
     (``no_estimate``, :data:`RRNoEstimate`)."""
 
-    rh: float = Field(0.8, gt=0)
+    rh: float = Field(0.8, gt=0)  # step length of a walk, grid units (seed 001: 0.8)
+    # a walk succeeds within this many grid units of the goal (seed 001: 0.5)
     success_radius: float = Field(0.5, gt=0)
     max_travel: float | None = Field(None, gt=0)  # grid units; None: half the grid's perimeter
+    # a walk on a position without an estimate: fail, or arrived when next to the goal
     no_estimate: RRNoEstimate = "fail"
 
 
@@ -198,10 +207,12 @@ class AhcConfig(StrictModel):
     001's eq. 12, ``cos_mean_ae`` (the cosine of the mean AE), or ``mean_cos`` (the mean of the
     cosines, as Vardy & Möller and Möller & Vardy report it)."""
 
-    bin_start_cm: float = Field(30.0, gt=0)
-    bin_stop_cm: float = Field(390.0, gt=0)
-    bin_step_cm: float = Field(30.0, gt=0)
+    bin_start_cm: float = Field(30.0, gt=0)  # centre of the first distance bin, cm
+    bin_stop_cm: float = Field(390.0, gt=0)  # centre of the last distance bin, cm
+    bin_step_cm: float = Field(30.0, gt=0)  # width of a distance bin, cm
+    # a pair without an estimate: exclude (left out, the paper's reading) or orthogonal (90 deg)
     missing: Literal["exclude", "orthogonal"] = "exclude"
+    # cos_mean_ae: seed 001's eq. 12; mean_cos: the mean of the cosines (Vardy & Möller)
     definition: AhcDefinition = "cos_mean_ae"
 
     @model_validator(mode="after")
@@ -222,9 +233,10 @@ class MetricsConfig(StrictModel):
     defaults: near, below 1.2 m; mid, to 2.4 m; far, beyond), so that one mean does not blend
     a method that works near the goal with one that fails far from it."""
 
-    ahc: AhcConfig = AhcConfig()
-    return_ratio: ReturnRatioConfig = ReturnRatioConfig()
-    catchment: bool = True
+    ahc: AhcConfig = AhcConfig()  # the AHC's distance bins, missing pairs and definition
+    return_ratio: ReturnRatioConfig = ReturnRatioConfig()  # seed 001's return-ratio walks
+    catchment: bool = True  # compute Möller's catchment area per goal
+    # edges of the distance bands, metres, increasing (near < 1.2 m, mid to 2.4 m, far beyond)
     band_edges_m: tuple[float, ...] = (1.2, 2.4)
 
     @field_validator("band_edges_m")
@@ -242,16 +254,16 @@ class MetricsConfig(StrictModel):
 class RotationConfig(StrictModel):
     """Rotate every current view by a random whole number of columns (seeded)."""
 
-    enabled: bool = False
-    seed: int = Field(0, ge=0)
+    enabled: bool = False  # rotate the current views (off: views as taken)
+    seed: int = Field(0, ge=0)  # seed of the rotations (drawn per database and position)
 
 
 class UnfoldConfig(StrictModel):
     """Panorama made from raw images for methods that need unfolded views (raw-only databases)."""
 
-    width: int = Field(288, ge=16)
-    elevation_top_deg: float = Field(45.0, gt=0, lt=90)
-    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)
+    width: int = Field(288, ge=16)  # panorama columns (pixels; rows follow: square pixels)
+    elevation_top_deg: float = Field(45.0, gt=0, lt=90)  # elevation of the top edge, degrees
+    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)  # of the bottom edge, degrees
 
     @model_validator(mode="after")
     def _bounded(self) -> UnfoldConfig:
@@ -272,11 +284,12 @@ class Check(StrictModel):
     """Thresholds a method must meet for ``homebench run --check``, in every condition or in
     the ``conditions`` listed."""
 
-    conditions: list[str] | None = None
+    conditions: list[str] | None = None  # conditions checked; None: every condition
 
-    ahc_min: float | None = Field(None, ge=-1, le=1)
-    rr_min: float | None = Field(None, ge=0, le=1)
-    mean_ae_max_deg: float | None = Field(None, ge=0, le=180)
+    ahc_min: float | None = Field(None, ge=-1, le=1)  # lowest AHC passed; None: unchecked
+    rr_min: float | None = Field(None, ge=0, le=1)  # lowest return ratio passed
+    mean_ae_max_deg: float | None = Field(None, ge=0, le=180)  # highest mean AE passed, degrees
+    # highest share (0-1) of pairs without an estimate passed
     no_estimate_max: float | None = Field(None, ge=0, le=1)
 
 
@@ -288,6 +301,7 @@ class RunConfig(StrictModel):
 
     name: str = "run"  # the run's name in tables and reports
     output: Path  # the run folder (relative to the current directory)
+    # not read by a grid run (random goals, rotations and worlds take their own seeds)
     seed: int = Field(0, ge=0)
     jobs: int = 1  # parallel workers (-1: all cores; homebench run --jobs overrides it)
     job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a job running longer fails; null: never

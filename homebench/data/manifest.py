@@ -122,9 +122,10 @@ class GridSection(StrictTypesModel):
     of what is written when it is the default, so that manifests and their identities stay as
     they were."""
 
-    shape: IntPair
-    spacing: float = Field(gt=0)
-    origin: FloatPair = (0.0, 0.0)
+    shape: IntPair  # [nx, ny]: how many labels along x and y
+    spacing: float = Field(gt=0)  # metres between neighbouring positions
+    origin: FloatPair = (0.0, 0.0)  # [x, y] metres of position (0, 0)
+    # which position each label's image was taken at: as-written, transposed or bob-recorder
     order: GridOrder = "as-written"
 
     @field_validator("shape")
@@ -264,11 +265,14 @@ class ImageSection(StrictTypesModel):
     processor must match where its bytes differ (:mod:`homebench.data.fingerprint`).
     """
 
-    folder: str = "."
+    folder: str = "."  # the images' folder, relative to the database root
+    # file name per grid index: {x} and {y} (with an optional width: {x:02d}), optionally {ext}
     pattern: str = "{x}_{y}.{ext}"
+    # the {ext} values tried, in order (letters and digits, no dot)
     extensions: Annotated[tuple[str, ...], Field(strict=False, min_length=1)] = ("png",)
-    size: IntPair
-    files: dict[str, Sha256 | None] = {}
+    size: IntPair  # [width, height] pixels, the same for every image
+    files: dict[str, Sha256 | None] = {}  # file name (relative to folder) -> sha256; null: unknown
+    # file name -> content fingerprint a file made on another processor must match
     fingerprints: dict[str, Fingerprint] = {}
 
     @field_validator("folder")
@@ -396,7 +400,7 @@ class RawImages(ImageSection):
         "pgm",
         "jpg",
     )
-    catadioptric: CatadioptricSection
+    catadioptric: CatadioptricSection  # the raw images' camera model
 
     def geometry(self) -> CatadioptricGeometry:
         return self.catadioptric.geometry(self.size)
@@ -416,7 +420,7 @@ class UnfoldedImages(ImageSection):
     """Unfolded (cylindrical, equiangular) panoramas."""
 
     folder: str = "unfolded"
-    panorama: PanoramaSection
+    panorama: PanoramaSection  # the panoramas' camera model
 
     def geometry(self) -> PanoramaGeometry:
         return self.panorama.geometry(self.size)
@@ -435,8 +439,8 @@ class UnfoldedImages(ImageSection):
 class ImagesSection(StrictTypesModel):
     """The image kinds of a database: one or both of ``raw`` and ``unfolded``."""
 
-    raw: RawImages | None = None
-    unfolded: UnfoldedImages | None = None
+    raw: RawImages | None = None  # raw catadioptric images (that need unwrapping)
+    unfolded: UnfoldedImages | None = None  # unfolded panoramas
 
     @model_validator(mode="after")
     def _at_least_one(self) -> ImagesSection:
@@ -448,7 +452,8 @@ class ImagesSection(StrictTypesModel):
 class Generator(StrictTypesModel):
     """A generated set: the world spec (all fields) and the spec key its files were made with."""
 
-    spec: WorldSpec
+    spec: WorldSpec  # the generated world's spec, every field
+    # the spec's key (16 hex digits) the files were made with; checked against the spec
     key: Annotated[str, Field(pattern=r"^[0-9a-f]{16}$")] | None = None
 
 
@@ -457,9 +462,9 @@ class Manifest(StrictTypesModel):
 
     schema_version: Literal[1] = Field(alias="schema")  # the manifest format's version
     name: Name  # letters, digits, . _ -
-    description: str = ""
+    description: str = ""  # one line on what the database is
     source: Source | None = None  # where a real set comes from (optional for your own sets)
-    grid: GridSection
+    grid: GridSection  # the capture grid: labels, spacing, origin, order
     # required: the world heading every image faces (deg, ccw from the grid's +x axis)
     heading_deg: Annotated[float, Field(allow_inf_nan=False)]
     # per-position headings where they differ, by grid key "X_Y"
@@ -468,7 +473,7 @@ class Manifest(StrictTypesModel):
     generator: Generator | None = None  # a generated set's world spec and its key
     ground_truth: str | None = None  # a generated set's ground-truth file, relative path
 
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, populate_by_name=True)
+    model_config = ConfigDict(populate_by_name=True)  # "schema" or schema_version
 
     @model_validator(mode="before")
     @classmethod

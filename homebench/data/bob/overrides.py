@@ -46,10 +46,10 @@ class PanoramaOverride(StrictTypesModel):
     """A manifest's panorama section whose keys may be left out: those keep the database's
     defaults (:func:`over`)."""
 
-    elevation_top_deg: float | None = None
-    elevation_bottom_deg: float | None = None
-    direction: Direction | None = None
-    zero_column: float | None = None
+    elevation_top_deg: float | None = None  # elevation of the upper edge of the first row
+    elevation_bottom_deg: float | None = None  # elevation of the lower edge of the last row
+    direction: Direction | None = None  # ccw: azimuth grows to the right
+    zero_column: float | None = None  # column of azimuth 0 (ahead), in [0, width)
 
     def over(self, base: Mapping[str, Any]) -> PanoramaSection:
         """The section of the keys ``base`` gives, those given here replacing them;
@@ -58,18 +58,22 @@ class PanoramaOverride(StrictTypesModel):
 
 
 class UnfoldedOverride(StrictTypesModel):
-    panorama: PanoramaOverride
+    """The camera model of images that need no unwrapping."""
+
+    panorama: PanoramaOverride  # the panorama's keys that differ from the database's defaults
 
 
 class RawOverride(StrictTypesModel):
-    catadioptric: CatadioptricSection
+    """The camera model of images that need unwrapping."""
+
+    catadioptric: CatadioptricSection  # the mirror's model, as a manifest's catadioptric section
 
 
 class ImageOverrides(StrictTypesModel):
     """The camera model of one image kind (a database holds one)."""
 
-    raw: RawOverride | None = None
-    unfolded: UnfoldedOverride | None = None
+    raw: RawOverride | None = None  # the folder's images need unwrapping
+    unfolded: UnfoldedOverride | None = None  # the folder's images are unfolded panoramas
 
 
 class HeadingsOverride(StrictTypesModel):
@@ -77,8 +81,9 @@ class HeadingsOverride(StrictTypesModel):
     from +x) of a heading of 0, ``direction`` the way headings grow seen from above. A key
     left out keeps the default (:data:`~homebench.data.bob.conventions.BOB_HEADINGS`)."""
 
+    # world direction (degrees, ccw from +x) of a heading of 0; None: 90 (BoB's bearings)
     zero_deg: Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False)] | None = None
-    direction: Direction | None = None
+    direction: Direction | None = None  # the way headings grow seen from above; None: BoB's cw
 
     def over(self, base: HeadingConvention) -> HeadingConvention:
         """``base`` with the keys given here replaced."""
@@ -91,6 +96,7 @@ class HeadingsOverride(StrictTypesModel):
 class GridOverride(StrictTypesModel):
     """How a grid's labels (Grid X, Grid Y) map to the positions its images were taken at."""
 
+    # as-written (the label is the position), transposed or bob-recorder (BoB's recorder order)
     order: GridOrder = "as-written"
 
 
