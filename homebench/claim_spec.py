@@ -50,12 +50,15 @@ LOWER_IS_BETTER = ("ae", "rotation_error", "final_error")
 class ClaimEntry(StrictModel):
     """One claim as the user writes it (see the module docstring)."""
 
-    better: str
-    than: str
+    better: str  # the method label expected to be better
+    than: str  # the method label (or a robot run's odometry, truth, random) it is compared to
+    # ae, rotation_error, ahc, ahc90, rr (grid runs); success, final_error (robot runs)
     metric: ClaimMetric
-    condition: str | None = None  # required in grid runs (claim_problem)
+    # a grid run's condition (required); a route's name or a world style (robot runs)
+    condition: str | None = None
+    # [lo, hi] metres from the goal: pairs whose current lies that far (grid runs; not rr)
     band: tuple[float, float] | None = None
-    margin: float = Field(0.0, ge=0)
+    margin: float = Field(0.0, ge=0)  # by how much better must beat than, in the metric's unit
 
     @model_validator(mode="after")
     def _consistent(self) -> ClaimEntry:

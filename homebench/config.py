@@ -64,27 +64,25 @@ JobTimeout = Annotated[float, Field(gt=0)] | None
 DEFAULT_JOB_TIMEOUT_S = 3600.0
 
 
-#: Every config model's base (kept under its old name for this module's classes).
-_Strict = StrictModel
-
-
 #: The keys of a database entry that state a Brains on Board folder's conventions.
 _BOB_KEYS = ("images", "headings", "grid", "missing_poses")
 
 
-class DatabaseRef(_Strict):
+class DatabaseRef(StrictModel):
     """A database of the run: a known name, manifest path or Brains on Board folder (``name``),
     or an inline ``world``. ``images`` (the camera model), ``headings`` (how headings are
     written), ``grid`` (the labels' order) and ``missing_poses`` (rows without a pose) state a
     Brains on Board folder's conventions, as its ``homebench.yaml`` would
     (:mod:`homebench.data.bob.overrides`), replacing the file's and what is assumed."""
 
-    name: str | None = None
+    name: str | None = None  # a known database name, a manifest path or a BoB folder
     path: Path | None = None  # root of a real set's copy (overrides the manifest's env variable)
-    world: WorldSpec | None = None
-    images: ImageOverrides | None = None
+    world: WorldSpec | None = None  # an inline generated world (instead of name)
+    images: ImageOverrides | None = None  # a BoB folder's camera model (raw or unfolded)
+    # how a BoB folder's Heading [degrees] is written (default: compass bearings, 0 = +y, cw)
     headings: HeadingsOverride | None = None
-    grid: GridOverride | None = None
+    grid: GridOverride | None = None  # the order of a BoB grid's labels (Grid X, Grid Y)
+    # a BoB folder's rows without X, Y or Heading: skip (default) or interpolate them
     missing_poses: MissingPoses | None = None
 
     @model_validator(mode="after")
@@ -106,16 +104,18 @@ class DatabaseRef(_Strict):
         return BobOverrides(**given) if given else None
 
 
-class RandomGoals(_Strict):
-    random: int = Field(ge=1)
-    seed: int = Field(0, ge=0)
+class RandomGoals(StrictModel):
+    """Goals drawn at random from a database's grid positions."""
+
+    random: int = Field(ge=1)  # how many goals, drawn without replacement
+    seed: int = Field(0, ge=0)  # seed of the draw
 
 
-class CurrentRange(_Strict):
+class CurrentRange(StrictModel):
     """Current positions whose distance to the goal lies in [min_distance, max_distance] metres."""
 
-    min_distance: float = Field(0.0, ge=0)
-    max_distance: float = Field(float("inf"), gt=0)
+    min_distance: float = Field(0.0, ge=0)  # metres from the goal, inclusive
+    max_distance: float = Field(float("inf"), gt=0)  # metres from the goal, inclusive
 
     @model_validator(mode="after")
     def _ordered(self) -> CurrentRange:
@@ -124,15 +124,18 @@ class CurrentRange(_Strict):
         return self
 
 
-class MethodEntry(_Strict):
+class MethodEntry(StrictModel):
     """A method with parameters; ``grid`` sweeps parameters (every combination of its lists);
     ``compass`` aligns the current view with the goal's before any method sees it (engine
     level: :data:`homebench.methods.image_difference.visual_compass.CompassMode`)."""
 
-    method: str
-    label: str | None = None
-    params: dict[str, Any] = Field(default_factory=dict)
+    method: str  # a registered method's name (`homebench methods` lists them)
+    label: str | None = None  # its name in tables and reports; default: the method's name
+    params: dict[str, Any] = Field(default_factory=dict)  # parameter -> value (see Methods)
+    # parameter -> list of values: one entry per combination, labelled label[name=value,...]
     grid: dict[str, list[Any]] = Field(default_factory=dict)
+    # none: views as taken; visual: the current view turned back by the visual compass's
+    # RIDF minimum against the goal's; truth: turned back by the true heading change
     compass: CompassMode = "none"
 
     @field_validator("grid")
@@ -179,14 +182,16 @@ class MethodEntry(_Strict):
 RRNoEstimate = Literal["fail", "arrived"]
 
 
-class ReturnRatioConfig(_Strict):
+class ReturnRatioConfig(StrictModel):
     """Seed 001's return ratio: step ``rh``, ``success_radius`` and ``max_travel`` in grid units
     (multiples of the grid spacing), and how a walk ends on a position without an estimate
     (``no_estimate``, :data:`RRNoEstimate`)."""
 
-    rh: float = Field(0.8, gt=0)
+    rh: float = Field(0.8, gt=0)  # step length of a walk, grid units (seed 001: 0.8)
+    # a walk succeeds within this many grid units of the goal (seed 001: 0.5)
     success_radius: float = Field(0.5, gt=0)
     max_travel: float | None = Field(None, gt=0)  # grid units; None: half the grid's perimeter
+    # a walk on a position without an estimate: fail, or arrived when next to the goal
     no_estimate: RRNoEstimate = "fail"
 
 
@@ -196,16 +201,18 @@ class ReturnRatioConfig(_Strict):
 AhcDefinition = Literal["cos_mean_ae", "mean_cos"]
 
 
-class AhcConfig(_Strict):
+class AhcConfig(StrictModel):
     """The AHC: its distance bins (cm), how a pair without an estimate enters it (``exclude``:
     left out, the paper's reading; ``orthogonal``: as 90 deg) and its ``definition``: seed
     001's eq. 12, ``cos_mean_ae`` (the cosine of the mean AE), or ``mean_cos`` (the mean of the
     cosines, as Vardy & Möller and Möller & Vardy report it)."""
 
-    bin_start_cm: float = Field(30.0, gt=0)
-    bin_stop_cm: float = Field(390.0, gt=0)
-    bin_step_cm: float = Field(30.0, gt=0)
+    bin_start_cm: float = Field(30.0, gt=0)  # centre of the first distance bin, cm
+    bin_stop_cm: float = Field(390.0, gt=0)  # centre of the last distance bin, cm
+    bin_step_cm: float = Field(30.0, gt=0)  # width of a distance bin, cm
+    # a pair without an estimate: exclude (left out, the paper's reading) or orthogonal (90 deg)
     missing: Literal["exclude", "orthogonal"] = "exclude"
+    # cos_mean_ae: seed 001's eq. 12; mean_cos: the mean of the cosines (Vardy & Möller)
     definition: AhcDefinition = "cos_mean_ae"
 
     @model_validator(mode="after")
@@ -220,15 +227,16 @@ class AhcConfig(_Strict):
         return self
 
 
-class MetricsConfig(_Strict):
+class MetricsConfig(StrictModel):
     """The metrics: the AHC's, the return ratio's, Möller's catchment, and the edges of the
     distance bands (m, increasing) the band table reports the headline metrics in (the
     defaults: near, below 1.2 m; mid, to 2.4 m; far, beyond), so that one mean does not blend
     a method that works near the goal with one that fails far from it."""
 
-    ahc: AhcConfig = AhcConfig()
-    return_ratio: ReturnRatioConfig = ReturnRatioConfig()
-    catchment: bool = True
+    ahc: AhcConfig = AhcConfig()  # the AHC's distance bins, missing pairs and definition
+    return_ratio: ReturnRatioConfig = ReturnRatioConfig()  # seed 001's return-ratio walks
+    catchment: bool = True  # compute Möller's catchment area per goal
+    # edges of the distance bands, metres, increasing (near < 1.2 m, mid to 2.4 m, far beyond)
     band_edges_m: tuple[float, ...] = (1.2, 2.4)
 
     @field_validator("band_edges_m")
@@ -243,19 +251,19 @@ class MetricsConfig(_Strict):
         return edges
 
 
-class RotationConfig(_Strict):
+class RotationConfig(StrictModel):
     """Rotate every current view by a random whole number of columns (seeded)."""
 
-    enabled: bool = False
-    seed: int = Field(0, ge=0)
+    enabled: bool = False  # rotate the current views (off: views as taken)
+    seed: int = Field(0, ge=0)  # seed of the rotations (drawn per database and position)
 
 
-class UnfoldConfig(_Strict):
+class UnfoldConfig(StrictModel):
     """Panorama made from raw images for methods that need unfolded views (raw-only databases)."""
 
-    width: int = Field(288, ge=16)
-    elevation_top_deg: float = Field(45.0, gt=0, lt=90)
-    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)
+    width: int = Field(288, ge=16)  # panorama columns (pixels; rows follow: square pixels)
+    elevation_top_deg: float = Field(45.0, gt=0, lt=90)  # elevation of the top edge, degrees
+    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)  # of the bottom edge, degrees
 
     @model_validator(mode="after")
     def _bounded(self) -> UnfoldConfig:
@@ -272,19 +280,20 @@ class UnfoldConfig(_Strict):
         )
 
 
-class Check(_Strict):
+class Check(StrictModel):
     """Thresholds a method must meet for ``homebench run --check``, in every condition or in
     the ``conditions`` listed."""
 
-    conditions: list[str] | None = None
+    conditions: list[str] | None = None  # conditions checked; None: every condition
 
-    ahc_min: float | None = Field(None, ge=-1, le=1)
-    rr_min: float | None = Field(None, ge=0, le=1)
-    mean_ae_max_deg: float | None = Field(None, ge=0, le=180)
+    ahc_min: float | None = Field(None, ge=-1, le=1)  # lowest AHC passed; None: unchecked
+    rr_min: float | None = Field(None, ge=0, le=1)  # lowest return ratio passed
+    mean_ae_max_deg: float | None = Field(None, ge=0, le=180)  # highest mean AE passed, degrees
+    # highest share (0-1) of pairs without an estimate passed
     no_estimate_max: float | None = Field(None, ge=0, le=1)
 
 
-class RunConfig(_Strict):
+class RunConfig(StrictModel):
     """A grid run (no ``kind``, or ``kind: grid``): every (goal, current) pair of its databases'
     grids, for each condition and method entry."""
 
@@ -292,6 +301,7 @@ class RunConfig(_Strict):
 
     name: str = "run"  # the run's name in tables and reports
     output: Path  # the run folder (relative to the current directory)
+    # not read by a grid run (random goals, rotations and worlds take their own seeds)
     seed: int = Field(0, ge=0)
     jobs: int = 1  # parallel workers (-1: all cores; homebench run --jobs overrides it)
     job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a job running longer fails; null: never

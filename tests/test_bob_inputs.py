@@ -312,7 +312,7 @@ BAD_INPUTS: dict[str, tuple[str, Callable[[Path], None], str]] = {
     "an unknown override": (
         "route",
         lambda f: (f / "homebench.yaml").write_text("heading_deg: 90\n"),
-        r"homebench\.yaml:1: heading_deg: Extra inputs are not permitted",
+        r"homebench\.yaml:1: unknown key 'heading_deg' \(did you mean 'headings'\?\)",
     ),
 }
 

@@ -124,3 +124,24 @@ def test_cli_overrides_are_applied_and_recorded(tmp_path):
     assert resolved["goals"] == [[0, 0]]
     environment = json.loads((tmp_path / "other" / "environment.json").read_text())
     assert environment["overrides"]["config"] == ["goals=[[0, 0]]", f"output={tmp_path / 'other'}"]
+
+
+@pytest.mark.parametrize(
+    ("kind", "data", "meant"),
+    [
+        ("route", {"routes": [{"name": "a", "waypoints": [[1, 1], [1, 2]]}],
+                   "sucess_radius_m": 0.2}, "success_radius_m"),
+        ("closed-loop", {"goals": [{"at": [1, 1]}], "starts": {"spacing": 0.5},
+                         "motoin": {}}, "motion"),
+    ],
+)  # fmt: skip
+def test_robot_configs_name_the_key_meant(tmp_path: Path, kind: str, data: dict, meant: str):
+    """Route and closed-loop configs share the grid config's strict base: a misspelt key names
+    the key meant."""
+    from homebench.experiments.closed_loop.config import load_closed_loop_config
+    from homebench.experiments.route.config import load_route_config
+
+    load = load_route_config if kind == "route" else load_closed_loop_config
+    path = _write(tmp_path, {"kind": kind, "output": "runs/r", **data})
+    with pytest.raises(ConfigError, match=rf"did you mean '{meant}'"):
+        load(path)

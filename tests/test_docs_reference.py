@@ -72,25 +72,51 @@ def _models(root: type[BaseModel]) -> Iterator[type[BaseModel]]:
             stack.extend(arg for arg in get_args(hint) if not isinstance(arg, str))
 
 
-@pytest.mark.parametrize(
-    ("page", "roots"),
-    [
-        ("reference/config", ["homebench.config:RunConfig",
-                              "homebench.experiments.route.config:RouteConfig",
-                              "homebench.experiments.closed_loop.config:ClosedLoopConfig"]),
-        ("reference/manifest", ["homebench.data.manifest:Manifest"]),
-    ],
-)  # fmt: skip
-def test_every_key_of_a_schema_is_in_its_reference(site: Path, page: str, roots: list[str]):
+#: Each schema reference page and the root models it documents ("module:Class").
+SCHEMAS = [
+    ("reference/config", ["homebench.config:RunConfig",
+                          "homebench.experiments.route.config:RouteConfig",
+                          "homebench.experiments.closed_loop.config:ClosedLoopConfig"]),
+    ("reference/manifest", ["homebench.data.manifest:Manifest"]),
+]  # fmt: skip
+
+
+def _roots(roots: list[str]) -> list[type[BaseModel]]:
+    """The classes ``roots`` ("module:Class") name."""
     import importlib
 
+    return [
+        getattr(importlib.import_module(module), name)
+        for module, _, name in (root.partition(":") for root in roots)
+    ]
+
+
+@pytest.mark.parametrize(("page", "roots"), SCHEMAS)
+def test_every_key_of_a_schema_is_in_its_reference(site: Path, page: str, roots: list[str]):
     html = _page(site, page)
-    for root in roots:
-        module, _, name = root.partition(":")
-        for model in _models(getattr(importlib.import_module(module), name)):
+    for root in _roots(roots):
+        for model in _models(root):
             assert f'id="{model.__name__.lower()}"' in html, model.__name__
             for key, field in model.model_fields.items():
                 assert f"<code>{field.alias or key}</code>" in html, (model.__name__, key)
+
+
+@pytest.mark.parametrize(("page", "roots"), SCHEMAS)
+def test_every_key_of_a_schema_has_a_description(page: str, roots: list[str]) -> None:
+    """Each row of a schema page (docs/hooks/schema.py's, as the page is built) says what its
+    key means: a ``Field(description=...)`` or a comment on or above the field."""
+    sys.path.insert(0, str(ROOT / "docs" / "hooks"))
+    try:
+        import schema
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "hooks"))
+    undescribed = [
+        f"{cls.__module__}.{cls.__name__}.{key.name}"
+        for cls in schema.reachable(_roots(roots))
+        for key in schema.keys(cls)
+        if not key.description.strip()
+    ]
+    assert not undescribed, f"{page}: keys without a description: {undescribed}"
 
 
 def test_every_method_parameter_is_in_the_method_reference(site: Path) -> None:

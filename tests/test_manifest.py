@@ -115,6 +115,8 @@ def test_shipped_manifests_cover_the_sets() -> None:
     [
         # unknown keys, at any depth: file, line and key path
         ("heading_deg: 90.0", "heading_deg: 90.0\ncolour: red", r"m\.yaml:6: colour: Extra"),
+        # a near miss names the key meant (the strict base of every config and manifest)
+        ("heading_deg: 90.0", "heading_deg: 90.0\nheadings_degs: {}", r"mean 'headings_deg'"),
         (
             "      direction: cw",
             "      direction: cw\n      focal: 3",

@@ -27,7 +27,6 @@ from typing import Annotated, Any, Literal
 import numpy as np
 import yaml
 from pydantic import (
-    BaseModel,
     ConfigDict,
     Field,
     SerializerFunctionWrapHandler,
@@ -42,6 +41,7 @@ from homebench.errors import ConfigError, DataError
 from homebench.fileio import read_small_text
 from homebench.geometry import CatadioptricGeometry, Grid, PanoramaGeometry, parse_grid_key
 from homebench.image_header import size_problem
+from homebench.strict import StrictTypesModel
 from homebench.views import ImageKind
 from homebench.yamlio import MAX_YAML_BYTES, parse_model
 
@@ -65,10 +65,6 @@ Sha256 = Annotated[str, Field(pattern=r"^[0-9a-f]{64}$")]
 Fingerprint = Annotated[str, Field(pattern=r"^[0-9]{1,9}:[0-9]{1,9}:[0-9a-f]{66}$")]
 Name = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9._-]*$")]
 Direction = Literal["ccw", "cw"]
-
-
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
 
 
 def _relative_posix(value: str, what: str) -> str:
@@ -110,7 +106,7 @@ def _field_text(field: str, spec: str, conversion: str | None) -> str:
     return f"{{{field}{conversion}{':' if spec else ''}{spec}}}"
 
 
-class Source(_Strict):
+class Source(StrictTypesModel):
     """Where a real set comes from and which environment variable points at a local copy."""
 
     citation: str  # how to cite the set
@@ -119,7 +115,7 @@ class Source(_Strict):
     path_env: Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$")] | None = None
 
 
-class GridSection(_Strict):
+class GridSection(StrictTypesModel):
     """The capture grid: labels (X, Y: a file name's, a ``headings_deg`` key) spanning
     ``shape`` = [nx, ny], the positions ``spacing`` metres apart. ``order`` says at which
     position each label's image was taken (:mod:`homebench.data.grid_order`): as written, the
@@ -127,9 +123,10 @@ class GridSection(_Strict):
     of what is written when it is the default, so that manifests and their identities stay as
     they were."""
 
-    shape: IntPair
-    spacing: float = Field(gt=0)
-    origin: FloatPair = (0.0, 0.0)
+    shape: IntPair  # [nx, ny]: how many labels along x and y
+    spacing: float = Field(gt=0)  # metres between neighbouring positions
+    origin: FloatPair = (0.0, 0.0)  # [x, y] metres of position (0, 0)
+    # which position each label's image was taken at: as-written, transposed or bob-recorder
     order: GridOrder = "as-written"
 
     @field_validator("shape")
@@ -164,7 +161,7 @@ class GridSection(_Strict):
         return Grid(self.shape, self.spacing, self.origin)
 
 
-class CatadioptricSection(_Strict):
+class CatadioptricSection(StrictTypesModel):
     """Raw-image camera model (see geometry.CatadioptricGeometry), angles in degrees."""
 
     centre: FloatPair  # pixel coordinates of the mirror axis
@@ -209,7 +206,7 @@ class CatadioptricSection(_Strict):
         )
 
 
-class PanoramaSection(_Strict):
+class PanoramaSection(StrictTypesModel):
     """Unfolded-panorama camera model (see geometry.PanoramaGeometry), angles in degrees."""
 
     elevation_top_deg: float  # elevation of the upper edge of the first row
@@ -255,7 +252,7 @@ def _degrees(radians: float) -> float:
     return round(math.degrees(radians), 9)
 
 
-class ImageSection(_Strict):
+class ImageSection(StrictTypesModel):
     """Where one kind of image lives (base of RawImages and UnfoldedImages).
 
     Files are ``folder``/``pattern`` per grid position, all of one ``size`` [width, height].
@@ -269,11 +266,14 @@ class ImageSection(_Strict):
     processor must match where its bytes differ (:mod:`homebench.data.fingerprint`).
     """
 
-    folder: str = "."
+    folder: str = "."  # the images' folder, relative to the database root
+    # file name per grid index: {x} and {y} (with an optional width: {x:02d}), optionally {ext}
     pattern: str = "{x}_{y}.{ext}"
+    # the {ext} values tried, in order (letters and digits, no dot)
     extensions: Annotated[tuple[str, ...], Field(strict=False, min_length=1)] = ("png",)
-    size: IntPair
-    files: dict[str, Sha256 | None] = {}
+    size: IntPair  # [width, height] pixels, the same for every image
+    files: dict[str, Sha256 | None] = {}  # file name (relative to folder) -> sha256; null: unknown
+    # file name -> content fingerprint a file made on another processor must match
     fingerprints: dict[str, Fingerprint] = {}
 
     @field_validator("folder")
@@ -401,7 +401,7 @@ class RawImages(ImageSection):
         "pgm",
         "jpg",
     )
-    catadioptric: CatadioptricSection
+    catadioptric: CatadioptricSection  # the raw images' camera model
 
     def geometry(self) -> CatadioptricGeometry:
         return self.catadioptric.geometry(self.size)
@@ -421,7 +421,7 @@ class UnfoldedImages(ImageSection):
     """Unfolded (cylindrical, equiangular) panoramas."""
 
     folder: str = "unfolded"
-    panorama: PanoramaSection
+    panorama: PanoramaSection  # the panoramas' camera model
 
     def geometry(self) -> PanoramaGeometry:
         return self.panorama.geometry(self.size)
@@ -437,11 +437,11 @@ class UnfoldedImages(ImageSection):
         return self
 
 
-class ImagesSection(_Strict):
+class ImagesSection(StrictTypesModel):
     """The image kinds of a database: one or both of ``raw`` and ``unfolded``."""
 
-    raw: RawImages | None = None
-    unfolded: UnfoldedImages | None = None
+    raw: RawImages | None = None  # raw catadioptric images (that need unwrapping)
+    unfolded: UnfoldedImages | None = None  # unfolded panoramas
 
     @model_validator(mode="after")
     def _at_least_one(self) -> ImagesSection:
@@ -450,21 +450,22 @@ class ImagesSection(_Strict):
         return self
 
 
-class Generator(_Strict):
+class Generator(StrictTypesModel):
     """A generated set: the world spec (all fields) and the spec key its files were made with."""
 
-    spec: WorldSpec
+    spec: WorldSpec  # the generated world's spec, every field
+    # the spec's key (16 hex digits) the files were made with; checked against the spec
     key: Annotated[str, Field(pattern=r"^[0-9a-f]{16}$")] | None = None
 
 
-class Manifest(_Strict):
+class Manifest(StrictTypesModel):
     """One grid database: see the module docstring and ``data_manifests/*.yaml``."""
 
     schema_version: Literal[1] = Field(alias="schema")  # the manifest format's version
     name: Name  # letters, digits, . _ -
-    description: str = ""
+    description: str = ""  # one line on what the database is
     source: Source | None = None  # where a real set comes from (optional for your own sets)
-    grid: GridSection
+    grid: GridSection  # the capture grid: labels, spacing, origin, order
     # required: the world heading every image faces (deg, ccw from the grid's +x axis)
     heading_deg: Annotated[float, Field(allow_inf_nan=False)]
     # per-position headings where they differ, by grid key "X_Y"
@@ -473,7 +474,7 @@ class Manifest(_Strict):
     generator: Generator | None = None  # a generated set's world spec and its key
     ground_truth: str | None = None  # a generated set's ground-truth file, relative path
 
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, populate_by_name=True)
+    model_config = ConfigDict(populate_by_name=True)  # "schema" or schema_version
 
     @model_validator(mode="before")
     @classmethod

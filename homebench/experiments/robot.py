@@ -59,12 +59,12 @@ class DriftModel(_Frozen):
     ``heading_bias`` (rad of ccw heading drift per metre driven).
     """
 
-    translation_var: float = Field(0.0, ge=0)
-    rotation_var: float = Field(0.0, ge=0)
-    turn_var: float = Field(0.0, ge=0)
-    scale_bias: float = Field(0.0, gt=-1)
-    turn_bias: float = Field(0.0, gt=-1)
-    heading_bias: float = 0.0
+    translation_var: float = Field(0.0, ge=0)  # random distance error, m^2 per metre driven
+    rotation_var: float = Field(0.0, ge=0)  # random heading drift, rad^2 per metre driven
+    turn_var: float = Field(0.0, ge=0)  # random turn error, rad^2 per radian turned
+    scale_bias: float = Field(0.0, gt=-1)  # true distance = (1 + scale_bias) x commanded
+    turn_bias: float = Field(0.0, gt=-1)  # true turn = (1 + turn_bias) x commanded
+    heading_bias: float = 0.0  # systematic ccw heading drift, rad per metre driven
 
     def perturb(self, command: Motion, rng: np.random.Generator) -> Motion:
         """The true motion of ``command``; draws three normals from ``rng`` per call."""
@@ -87,8 +87,8 @@ class MotionLimits(_Frozen):
     (the paper's robot: at most 4 cm/s and 3 deg/s).
     """
 
-    step_length: float = Field(0.05, gt=0)
-    max_turn_deg: float = Field(10.0, gt=0, le=180)
+    step_length: float = Field(0.05, gt=0)  # most the robot drives in one frame, metres
+    max_turn_deg: float = Field(10.0, gt=0, le=180)  # most it turns in one frame, degrees
 
     @property
     def max_turn(self) -> float:

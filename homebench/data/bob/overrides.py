@@ -33,26 +33,23 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
 from homebench.data.grid_order import GridOrder
 from homebench.data.manifest import CatadioptricSection, Name, PanoramaSection
 from homebench.geometry import Direction, HeadingConvention
+from homebench.strict import StrictTypesModel
 from homebench.yamlio import load_model
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
-
-
-class PanoramaOverride(_Strict):
+class PanoramaOverride(StrictTypesModel):
     """A manifest's panorama section whose keys may be left out: those keep the database's
     defaults (:func:`over`)."""
 
-    elevation_top_deg: float | None = None
-    elevation_bottom_deg: float | None = None
-    direction: Direction | None = None
-    zero_column: float | None = None
+    elevation_top_deg: float | None = None  # elevation of the upper edge of the first row
+    elevation_bottom_deg: float | None = None  # elevation of the lower edge of the last row
+    direction: Direction | None = None  # ccw: azimuth grows to the right
+    zero_column: float | None = None  # column of azimuth 0 (ahead), in [0, width)
 
     def over(self, base: Mapping[str, Any]) -> PanoramaSection:
         """The section of the keys ``base`` gives, those given here replacing them;
@@ -60,28 +57,33 @@ class PanoramaOverride(_Strict):
         return PanoramaSection.model_validate({**base, **self.model_dump(exclude_none=True)})
 
 
-class UnfoldedOverride(_Strict):
-    panorama: PanoramaOverride
+class UnfoldedOverride(StrictTypesModel):
+    """The camera model of images that need no unwrapping."""
+
+    panorama: PanoramaOverride  # the panorama's keys that differ from the database's defaults
 
 
-class RawOverride(_Strict):
-    catadioptric: CatadioptricSection
+class RawOverride(StrictTypesModel):
+    """The camera model of images that need unwrapping."""
+
+    catadioptric: CatadioptricSection  # the mirror's model, as a manifest's catadioptric section
 
 
-class ImageOverrides(_Strict):
+class ImageOverrides(StrictTypesModel):
     """The camera model of one image kind (a database holds one)."""
 
-    raw: RawOverride | None = None
-    unfolded: UnfoldedOverride | None = None
+    raw: RawOverride | None = None  # the folder's images need unwrapping
+    unfolded: UnfoldedOverride | None = None  # the folder's images are unfolded panoramas
 
 
-class HeadingsOverride(_Strict):
+class HeadingsOverride(StrictTypesModel):
     """How ``Heading [degrees]`` is written: ``zero_deg`` is the world direction (degrees, ccw
     from +x) of a heading of 0, ``direction`` the way headings grow seen from above. A key
     left out keeps the default (:data:`~homebench.data.bob.conventions.BOB_HEADINGS`)."""
 
+    # world direction (degrees, ccw from +x) of a heading of 0; None: 90 (BoB's bearings)
     zero_deg: Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False)] | None = None
-    direction: Direction | None = None
+    direction: Direction | None = None  # the way headings grow seen from above; None: BoB's cw
 
     def over(self, base: HeadingConvention) -> HeadingConvention:
         """``base`` with the keys given here replaced."""
@@ -91,9 +93,10 @@ class HeadingsOverride(_Strict):
         )
 
 
-class GridOverride(_Strict):
+class GridOverride(StrictTypesModel):
     """How a grid's labels (Grid X, Grid Y) map to the positions its images were taken at."""
 
+    # as-written (the label is the position), transposed or bob-recorder (BoB's recorder order)
     order: GridOrder = "as-written"
 
 
@@ -101,7 +104,7 @@ class GridOverride(_Strict):
 MissingPoses = Literal["skip", "interpolate"]
 
 
-class BobOverrides(_Strict):
+class BobOverrides(StrictTypesModel):
     """``homebench.yaml`` of a Brains on Board database: see the module docstring."""
 
     name: Name | None = None

@@ -69,19 +69,25 @@ class CameraSpec(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    blur_deg: float = Field(0.35, ge=0, le=10)
+    blur_deg: float = Field(0.35, ge=0, le=10)  # optics' Gaussian blur, sd in degrees of view
+    # irradiance fall-off at the mirror's rim: 1 - falloff x (r / r_outer)^2
     falloff: float = Field(0.3, ge=0, lt=1)
+    # auto: metered to target; fixed: exposure_time at gain 1 (brighter scene, brighter image)
     exposure: Literal["auto", "fixed"] = "auto"
+    # auto: the mean clipped linear signal over the metering region (0.18: 18 % grey)
     target: float = Field(0.18, gt=0, lt=1)
+    # auto: the metering region, the whole mirror image or a band around the horizon
     metering: Literal["annulus", "horizon"] = "annulus"
-    metering_band_deg: float = Field(20.0, gt=0, le=90)
+    metering_band_deg: float = Field(20.0, gt=0, le=90)  # horizon metering: +- degrees
+    # auto: (shortest, longest) exposure time (1 = the time at which radiance 255 fills the well)
     exposure_time_range: tuple[float, float] = (1.0 / 256.0, 4.0)
-    exposure_time: float = Field(0.6, gt=0)
-    max_gain: float = Field(16.0, ge=1)
-    full_well: float = Field(8000.0, gt=0)
-    read_noise: float = Field(6.0, ge=0)
-    noise: bool = True
-    response: Literal["srgb", "linear"] = "srgb"
+    exposure_time: float = Field(0.6, gt=0)  # fixed: the exposure time
+    max_gain: float = Field(16.0, ge=1)  # auto: the most analog gain past the longest time
+    full_well: float = Field(8000.0, gt=0)  # sensor full-well capacity, electrons
+    read_noise: float = Field(6.0, ge=0)  # sensor read noise, electrons rms
+    noise: bool = True  # shot and read noise (false: an ideal sensor)
+    response: Literal["srgb", "linear"] = "srgb"  # the transfer curve before 8-bit rounding
+    # the most a capture's camera axis tilts from vertical (seeded per capture), degrees
     tilt_deg: float = Field(0.0, ge=0, le=20)
 
     @model_validator(mode="after")

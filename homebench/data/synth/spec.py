@@ -37,9 +37,10 @@ class _Frozen(BaseModel):
 class GridSpec(_Frozen):
     """Capture grid: ``shape`` = (nx, ny) positions ``spacing`` metres apart from ``origin``."""
 
-    shape: tuple[int, int] = (10, 17)
-    spacing: float = Field(0.30, gt=0)
-    origin: tuple[float, float] | None = None  # None: centred in the room
+    shape: tuple[int, int] = (10, 17)  # (nx, ny) positions (Vardy's sets: 10 x 17)
+    spacing: float = Field(0.30, gt=0)  # metres between neighbouring positions
+    # (x, y) metres of position (0, 0); None: the grid centred in the room
+    origin: tuple[float, float] | None = None
 
     @model_validator(mode="after")
     def _positive_shape(self) -> GridSpec:
@@ -54,9 +55,9 @@ class RoomSpec(_Frozen):
     Outdoors the "room" is the box of the far scenery (skyline on its walls, sky above).
     """
 
-    width: float = Field(6.0, gt=1)
-    depth: float = Field(8.4, gt=1)
-    height: float = Field(2.8, gt=1)
+    width: float = Field(6.0, gt=1)  # extent along x, metres
+    depth: float = Field(8.4, gt=1)  # extent along y, metres
+    height: float = Field(2.8, gt=1)  # floor to ceiling, metres
 
 
 #: Each style's room when the spec names none.
@@ -72,14 +73,15 @@ STYLE_ROOMS: dict[Style, RoomSpec] = {
 class RawImageSpec(_Frozen):
     """Raw catadioptric image, Bielefeld format by default (equiangular mirror model)."""
 
-    width: int = Field(752, ge=32)
-    height: int = Field(564, ge=32)
-    inner_radius: float = Field(25.0, ge=0)
-    outer_radius: float = Field(270.0, gt=0)
+    width: int = Field(752, ge=32)  # image width, pixels (the mirror centred in the image)
+    height: int = Field(564, ge=32)  # image height, pixels
+    inner_radius: float = Field(25.0, ge=0)  # radius (px) of the mirror image's inner edge
+    outer_radius: float = Field(270.0, gt=0)  # radius (px) of its outer edge
+    # elevation imaged at the inner radius, degrees (linear in the radius in between)
     elevation_inner_deg: float = Field(-50.0, gt=-90, lt=0)
-    elevation_outer_deg: float = Field(45.0, gt=0, lt=90)
-    direction: Literal["ccw", "cw"] = "cw"
-    zero_angle_deg: float = 90.0
+    elevation_outer_deg: float = Field(45.0, gt=0, lt=90)  # elevation imaged at the outer radius
+    direction: Literal["ccw", "cw"] = "cw"  # which way azimuth grows on screen
+    zero_angle_deg: float = 90.0  # image angle (ccw from +u) where azimuth 0 (ahead) appears
 
     @model_validator(mode="after")
     def _bounded(self) -> RawImageSpec:
@@ -106,9 +108,9 @@ class RawImageSpec(_Frozen):
 class UnfoldedImageSpec(_Frozen):
     """Unfolded panorama; its height follows from square pixels over the elevation range."""
 
-    width: int = Field(360, ge=16)
-    elevation_top_deg: float = Field(45.0, gt=0, lt=90)
-    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)
+    width: int = Field(360, ge=16)  # panorama columns, pixels (one per degree by default)
+    elevation_top_deg: float = Field(45.0, gt=0, lt=90)  # elevation of the top edge, degrees
+    elevation_bottom_deg: float = Field(-50.0, gt=-90, lt=0)  # of the bottom edge, degrees
 
     @model_validator(mode="after")
     def _bounded(self) -> UnfoldedImageSpec:
@@ -141,17 +143,20 @@ class WorldSpec(_Frozen):
     (:data:`Render`); it enters the key only when set, so photo worlds keep their keys.
     """
 
+    # seeds the place (its objects, the variant's additions, the sun) and each image's noise
     seed: int = Field(0, ge=0)
-    style: Style = "posters"
+    style: Style = "posters"  # the kind of place: posters, lab, corridor, outdoor, arena
+    # original, arboreal (a tall plant), chairs, day, twilight or winlit (Vardy's variants)
     variant: Variant = "original"
-    room: RoomSpec | None = None
-    grid: GridSpec = GridSpec()
-    camera_height: float = Field(1.0, gt=0)
-    heading_deg: float = 0.0
-    raw: RawImageSpec = RawImageSpec()
-    unfolded: UnfoldedImageSpec = UnfoldedImageSpec()
-    camera: CameraSpec = CameraSpec()
-    light_gain: float = Field(1.0, gt=0)
+    room: RoomSpec | None = None  # the room's extent; None: the style's room
+    grid: GridSpec = GridSpec()  # the capture grid
+    camera_height: float = Field(1.0, gt=0)  # height of the camera above the floor, metres
+    heading_deg: float = 0.0  # heading of every grid view, degrees ccw from +x
+    raw: RawImageSpec = RawImageSpec()  # the raw catadioptric images' geometry
+    unfolded: UnfoldedImageSpec = UnfoldedImageSpec()  # the unfolded panoramas' geometry
+    camera: CameraSpec = CameraSpec()  # optics, exposure, sensor and response of the camera
+    light_gain: float = Field(1.0, gt=0)  # multiplies all scene radiance (a global light change)
+    # photo: the lit scene through the camera; landmarks: objects black on a white room
     render: Render = "photo"
 
     @model_validator(mode="after")

@@ -86,13 +86,13 @@ from homebench.config import (
     JobTimeout,
     MethodEntry,
     UnfoldConfig,
-    _Strict,
     method_points,
 )
 from homebench.data.synth.spec import Style, WorldSpec
 from homebench.experiments.memory import check_robot_entries, is_memory_method
 from homebench.experiments.robot import DriftModel, MotionLimits
 from homebench.geometry import Pose, wrap_angle
+from homebench.strict import StrictModel
 from homebench.yamlio import YamlDocument, read_yaml, validate
 
 #: The style name of a database run's trials (it has no world style).
@@ -103,13 +103,13 @@ CONTROLS: tuple[Control, ...] = ("truth", "random")
 Region = tuple[FiniteFloat, FiniteFloat, FiniteFloat, FiniteFloat]
 
 
-class GoalSpec(_Strict):
+class GoalSpec(StrictModel):
     """A goal: ``at`` (x, y) metres in the config's frame, or ``grid`` (i, j) capture-grid
     indices; ``heading_deg`` of its snapshot (default 0)."""
 
-    at: tuple[FiniteFloat, FiniteFloat] | None = None
-    grid: tuple[int, int] | None = None
-    heading_deg: FiniteFloat = 0.0
+    at: tuple[FiniteFloat, FiniteFloat] | None = None  # (x, y) metres in the config's frame
+    grid: tuple[int, int] | None = None  # (i, j) capture-grid indices (instead of at)
+    heading_deg: FiniteFloat = 0.0  # the goal snapshot's heading, degrees ccw from +x
 
     @model_validator(mode="before")
     @classmethod
@@ -131,13 +131,15 @@ def _ordered(region: Region | None) -> Region | None:
     return region
 
 
-class LatticeStarts(_Strict):
+class LatticeStarts(StrictModel):
     """Starts on a square lattice of ``spacing`` metres over ``region`` (default: the capture
     grid's extent), the first node at the region's corner; each start's cell is spacing^2.
     ``heading_deg``: every start's heading (world frame); None: seeded uniform headings."""
 
-    spacing: float = Field(gt=0)
+    spacing: float = Field(gt=0)  # lattice spacing, metres
+    # [x_min, y_min, x_max, y_max] metres in the config's frame; None: the capture grid's extent
     region: Region | None = None
+    # every start's heading, degrees (world frame); None: seeded uniform headings
     heading_deg: FiniteFloat | None = None
 
     _region = field_validator("region")(_ordered)
@@ -150,13 +152,15 @@ class LatticeStarts(_Strict):
         return nx, ny
 
 
-class RandomStarts(_Strict):
+class RandomStarts(StrictModel):
     """``random`` starts drawn uniformly over ``region`` (seeded by ``seed``); each stands for
     region area / random of the floor. ``heading_deg`` as for lattice starts."""
 
-    random: int = Field(ge=1)
-    seed: int = Field(0, ge=0)
+    random: int = Field(ge=1)  # how many starts to draw
+    seed: int = Field(0, ge=0)  # seed of the starts' positions and headings
+    # [x_min, y_min, x_max, y_max] metres in the config's frame; None: the capture grid's extent
     region: Region | None = None
+    # every start's heading, degrees (world frame); None: seeded uniform headings
     heading_deg: FiniteFloat | None = None
 
     _region = field_validator("region")(_ordered)
@@ -177,13 +181,16 @@ Starts = Annotated[
 class ClosedLoopMotion(MotionLimits):
     """The robot's step and turn limits (:class:`MotionLimits`) and when a trial ends."""
 
-    step_length: float = Field(0.10, gt=0)
-    max_turn_deg: float = Field(30.0, gt=0, le=180)
-    success_radius: float = Field(0.15, gt=0)
+    step_length: float = Field(0.10, gt=0)  # most the robot drives in one step, metres
+    max_turn_deg: float = Field(30.0, gt=0, le=180)  # most it turns in one step, degrees
+    success_radius: float = Field(0.15, gt=0)  # success: the true position this near the goal, m
+    # give up after this many times the straight-line start distance (None: budget_m alone)
     budget_factor: float | None = Field(3.0, ge=1)
-    budget_m: float | None = Field(None, gt=0)
-    max_steps: int = Field(150, ge=1, le=MAX_TRIAL_FRAMES)
-    min_start_distance: float | None = Field(None, ge=0)  # None: 2 x success_radius
+    budget_m: float | None = Field(None, gt=0)  # an absolute cap on the path driven, metres
+    max_steps: int = Field(150, ge=1, le=MAX_TRIAL_FRAMES)  # steps (turns included) a trial gets
+    # closest a start may be to its goal, metres; None: 2 x success_radius
+    min_start_distance: float | None = Field(None, ge=0)
+    # a step without an estimate: continue (drive straight on, counted) or stop the trial
     no_estimate: Literal["continue", "stop"] = "continue"
 
     @model_validator(mode="after")
@@ -213,24 +220,25 @@ class ClosedLoopMotion(MotionLimits):
         return 2.0 * self.success_radius
 
 
-class RenderConfig(_Strict):
+class RenderConfig(StrictModel):
     """Views of a generated world: rendered at heading 0 on a ``lattice`` (metres) and turned
     by whole columns; ``cache_mb`` bounds the run folder's view cache, ``memory_views`` each
     worker's in-memory LRU. ``lattice: null`` renders every pose exactly (no cache)."""
 
+    # views rendered at positions snapped to this lattice, metres; null: every pose exactly
     lattice: float | None = Field(0.02, gt=0)
-    cache_mb: float = Field(2000.0, ge=0)
-    memory_views: int = Field(512, ge=0)
+    cache_mb: float = Field(2000.0, ge=0)  # most the run folder's view cache holds, MB
+    memory_views: int = Field(512, ge=0)  # views each worker keeps in memory (LRU)
 
 
-class TrainingRoutes(_Strict):
+class TrainingRoutes(StrictModel):
     """What methods that learn a route learn for each goal: ``routes`` straight routes into it
     from equally spaced directions, ``length_m`` long, a view every ``spacing_m`` metres facing
     the goal (see the module docstring)."""
 
-    routes: int = Field(8, ge=1)
-    length_m: float = Field(1.5, gt=0)
-    spacing_m: float = Field(0.1, gt=0)
+    routes: int = Field(8, ge=1)  # straight training routes into each goal, equally spaced
+    length_m: float = Field(1.5, gt=0)  # length of each training route, metres
+    spacing_m: float = Field(0.1, gt=0)  # a training view every this many metres
 
     @model_validator(mode="after")
     def _bounded(self) -> TrainingRoutes:
@@ -256,29 +264,34 @@ class TrainingRoutes(_Strict):
         return poses
 
 
-class ClosedLoopConfig(_Strict):
+class ClosedLoopConfig(StrictModel):
     """A closed-loop homing experiment: a scene, methods and controls, goals, starts, motion."""
 
-    kind: Literal["closed-loop"]
-    name: str = "closed-loop"
-    output: Path
+    kind: Literal["closed-loop"]  # a closed-loop homing experiment
+    name: str = "closed-loop"  # the run's name in tables and reports
+    output: Path  # the run folder (relative to the current directory)
+    # seeds lattice starts' headings, the random control, motion noise and the views' sensor noise
     seed: int = Field(0, ge=0)
+    # parallel workers (-1: all cores; homebench run --jobs overrides it)
     jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
     job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a trial running longer fails
-    world: WorldSpec = WorldSpec()
-    styles: list[Style] = Field(default_factory=list)
+    world: WorldSpec = WorldSpec()  # the generated world the robot homes in (unless database)
+    styles: list[Style] = Field(default_factory=list)  # sweep the world's style (distinct)
+    # or a database (known name, manifest path or Brains on Board folder): the nearest grid image
     database: str | None = None
-    database_path: Path | None = None
-    unfold: UnfoldConfig = UnfoldConfig()
+    database_path: Path | None = None  # folder of a real set's copy (needs database)
+    unfold: UnfoldConfig = UnfoldConfig()  # panoramas made from a raw-only database
+    # goals and starts in metres from the capture grid's origin (grid) or world coordinates
     frame: Literal["world", "grid"] = "grid"
-    methods: list[MethodEntry] = Field(default_factory=list)
+    methods: list[MethodEntry] = Field(default_factory=list)  # method entries, as a grid config's
+    # built-in pseudo-methods: truth (the true home direction), random (chance level)
     controls: list[Control] = Field(default_factory=lambda: list(CONTROLS))
-    goals: list[GoalSpec] = Field(min_length=1)
-    starts: Starts
-    motion: ClosedLoopMotion = ClosedLoopMotion()
-    drift: DriftModel = DriftModel()
-    render: RenderConfig = RenderConfig()
-    training: TrainingRoutes = TrainingRoutes()
+    goals: list[GoalSpec] = Field(min_length=1)  # the goals, each homed to from every start
+    starts: Starts  # start positions: a lattice ({spacing: ...}) or random ({random: N})
+    motion: ClosedLoopMotion = ClosedLoopMotion()  # step and turn limits, when a trial ends
+    drift: DriftModel = DriftModel()  # odometry errors (default: none)
+    render: RenderConfig = RenderConfig()  # how views of a generated world are rendered, cached
+    training: TrainingRoutes = TrainingRoutes()  # what route-learning methods learn per goal
     claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 
     @model_serializer(mode="wrap")

@@ -65,8 +65,6 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 from pydantic import (
-    BaseModel,
-    ConfigDict,
     Field,
     FiniteFloat,
     SerializerFunctionWrapHandler,
@@ -94,6 +92,7 @@ from homebench.experiments.route.familiar import FamiliarityParams
 from homebench.experiments.route.pairwise import PairwiseParams
 from homebench.experiments.route.visual import VisualHomingParams
 from homebench.methods.klt_sector.tracking import KltTracker
+from homebench.strict import StrictModel
 from homebench.yamlio import YamlDocument, read_yaml, validate
 
 #: The method that homes with seed 000's own route homing (life-cycles, sector law).
@@ -107,11 +106,7 @@ RECORDED = "recorded"
 MIN_STEP_M = 1e-3
 
 
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class RouteSpec(_Strict):
+class RouteSpec(StrictModel):
     """An outbound route: ``waypoints`` (metres, home first) driven in order.
 
     ``frame``: ``world`` (the waypoints are world coordinates) or ``grid`` (metres from the
@@ -129,14 +124,20 @@ class RouteSpec(_Strict):
     trials per length and displacement, each with its own noise.
     """
 
-    name: str
-    # None: 'recorded' as the config gives it (a plain list type keeps the errors of a list's)
+    name: str  # the route's name in tables (letters, digits, '_'); a claim's condition
+    # [x, y] points, metres, home first; or 'recorded': the database's recorded poses
+    # (None: 'recorded' as the config gives it; a plain list type keeps the errors of a list's)
     waypoints: Annotated[list[tuple[FiniteFloat, FiniteFloat]], Field(min_length=2)] | None
+    # world: the waypoints are world coordinates; grid: metres from the capture grid's origin
     frame: Literal["world", "grid"] = "world"
+    # the robot's heading at home, degrees ccw from +x; None: along the first segment
     heading_deg: FiniteFloat | None = None
+    # metres driven out along the route, one trial each; None: one trial, the whole route
     lengths: list[Annotated[float, Field(gt=0)]] | None = None
+    # metres the robot is carried left (negative: right) of the route's end before homing,
+    # one trial each, odometry not told; None: it homes from the route's end
     displacements_m: list[FiniteFloat] | None = Field(None, min_length=1)
-    repeats: int = Field(1, ge=1)
+    repeats: int = Field(1, ge=1)  # trials per length and displacement, each with its own noise
 
     @field_validator("name")
     @classmethod
@@ -258,16 +259,18 @@ class RouteSpec(_Strict):
         return math.atan2(y1 - y0, x1 - x0)
 
 
-class RouteConfig(_Strict):
+class RouteConfig(StrictModel):
     """A route-homing experiment: a generated world, routes, the robot, the tracker, homing."""
 
-    kind: Literal["route"]
-    name: str = "route"
-    output: Path
+    kind: Literal["route"]  # a route-homing experiment
+    name: str = "route"  # the run's name in tables and reports
+    output: Path  # the run folder (relative to the current directory)
+    # seeds each trial's motion and sensor noise and its probes' headings (with its name)
     seed: int = Field(0, ge=0)
+    # parallel workers (-1: all cores; homebench run --jobs overrides it)
     jobs: Annotated[int, Field(ge=1)] | Literal[-1] = 1
     job_timeout_s: JobTimeout = DEFAULT_JOB_TIMEOUT_S  # a trial running longer fails
-    world: WorldSpec = WorldSpec()
+    world: WorldSpec = WorldSpec()  # the generated world the robot drives in (unless database)
     # Or a database (known name, manifest path or Brains on Board folder): the robot sees the
     # nearest grid image, or the nearest recorded image of a recorded route.
     database: str | None = None
@@ -276,17 +279,19 @@ class RouteConfig(_Strict):
     # the nearest recorded image; None: the recording's sparsest spacing.
     recorded_reach_m: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
     unfold: UnfoldConfig = UnfoldConfig()  # panoramas made from a raw-only database
-    routes: list[RouteSpec] = Field(min_length=1)
-    motion: MotionLimits = MotionLimits()
-    drift: DriftModel = DriftModel()
+    routes: list[RouteSpec] = Field(min_length=1)  # the outbound routes (names distinct)
+    motion: MotionLimits = MotionLimits()  # the robot's step and turn per frame
+    drift: DriftModel = DriftModel()  # odometry errors (default: none, exact dead reckoning)
+    # klt-sector's corner tracker: KltTracker's parameters (default: its own defaults)
     tracker: dict[str, Any] = Field(default_factory=dict)
-    homing: VisualHomingParams = VisualHomingParams()
+    homing: VisualHomingParams = VisualHomingParams()  # klt-sector's route homing
+    # method entries, as a grid config's (default: klt-sector alone); labels distinct
     methods: list[MethodEntry] = Field(
         default_factory=lambda: [MethodEntry(method=KLT_SECTOR)], min_length=1
     )
-    pairwise: PairwiseParams = PairwiseParams()
-    familiarity: FamiliarityParams = FamiliarityParams()
-    success_radius_m: float = Field(0.1, gt=0)
+    pairwise: PairwiseParams = PairwiseParams()  # how the pairwise methods home (snapshots)
+    familiarity: FamiliarityParams = FamiliarityParams()  # how route-learning methods home
+    success_radius_m: float = Field(0.1, gt=0)  # a trial succeeds ending this near home, metres
     claims: list[ClaimEntry] = Field(default_factory=list)  # tested by `homebench findings`
 
     @model_validator(mode="after")

@@ -51,9 +51,9 @@ class FamiliarityParams(FollowParams):
     which arrival is watched), ``budget_factor`` (steps allowed, times the outbound frames) and
     the ``probes`` of the heading field (:class:`~.probes.ProbeSpec`; None: none)."""
 
-    near_home_m: float = Field(1.0, gt=0)
-    budget_factor: float = Field(3.0, ge=1)
-    probes: ProbeSpec | None = None
+    near_home_m: float = Field(1.0, gt=0)  # minimum arrival is watched this near home (odometry)
+    budget_factor: float = Field(3.0, ge=1)  # steps allowed, times the outbound route's frames
+    probes: ProbeSpec | None = None  # probes of the memory's heading field; None: none
 
 
 def follow_home(

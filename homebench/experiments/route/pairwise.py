@@ -64,10 +64,12 @@ class Arrival(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
+    # minimum: the view distance has passed its minimum; oracle: the true position is near
     criterion: Literal["minimum", "oracle"] = "minimum"
-    patience: int = Field(2, ge=1)
+    patience: int = Field(2, ge=1)  # minimum: forward steps without a new smallest distance
+    # minimum: a distance is a new smallest only below best x (1 - min_decrease)
     min_decrease: float = Field(0.0, ge=0, lt=1)
-    radius_m: float = Field(0.05, gt=0)
+    radius_m: float = Field(0.05, gt=0)  # oracle: metres from the target's true position
 
 
 class FollowParams(BaseModel):
@@ -78,11 +80,13 @@ class FollowParams(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    arrival: Arrival = Arrival()
-    max_no_estimate: int = Field(5, ge=1)
+    arrival: Arrival = Arrival()  # when a leg's target counts as reached
+    max_no_estimate: int = Field(5, ge=1)  # steps in a row without a direction: leg lost
+    # steps in a row that only turn: the leg ends as turning; None: a full turn's worth
     max_turn_only: int | None = Field(None, ge=1)
+    # at home (minimum arrival): drive back by odometry to where the view distance was least
     return_to_best: bool = True
-    align: bool = True
+    align: bool = True  # at home: turn by the method's rotation estimate against home's view
 
     def turn_only_limit(self, limits: MotionLimits) -> int:
         """Steps that only turn, in a row, that end a leg: ``max_turn_only`` or a full turn."""
@@ -95,8 +99,8 @@ class PairwiseParams(FollowParams):
     """Route homing with a pairwise method: the ``snapshots`` rule, ``max_leg_steps`` and the
     follower's parameters (:class:`FollowParams`)."""
 
-    snapshots: SnapshotRule = SnapshotRule()
-    max_leg_steps: int = Field(200, ge=1)
+    snapshots: SnapshotRule = SnapshotRule()  # where the outbound snapshots are stored
+    max_leg_steps: int = Field(200, ge=1)  # steps after which a leg gives up
 
 
 @dataclass(frozen=True)

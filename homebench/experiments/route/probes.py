@@ -55,10 +55,12 @@ class ProbeSpec(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
-    spacing_m: float = Field(0.5, gt=0)
+    spacing_m: float = Field(0.5, gt=0)  # metres between stations along the true route
+    # lateral offsets of each station's probes, metres (left of the way home positive; 0: on it)
     offsets_m: list[FiniteFloat] = Field(
         default_factory=lambda: [-1.0, -0.5, -0.25, 0.0, 0.25, 0.5, 1.0], min_length=1
     )
+    # the catchment: out to where every distance's median direction error stays below this
     threshold_deg: float = Field(45.0, gt=0, le=180)
 
 

@@ -40,8 +40,10 @@ class SnapshotRule(BaseModel):
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
+    # spacing: every spacing_m of odometry; similarity: when the view has changed by threshold
     rule: Literal["spacing", "similarity"] = "spacing"
-    spacing_m: float = Field(0.5, gt=0)
+    spacing_m: float = Field(0.5, gt=0)  # spacing: metres driven (odometry) between snapshots
+    # similarity: view distance to the last snapshot that stores a new one, RMS grey levels
     threshold: float = Field(12.0, gt=0)
 
 

@@ -52,17 +52,20 @@ class VisualHomingParams(BaseModel):
     :mod:`homebench.methods.klt_sector.sector_law`; ``anchor`` (a departure, off by default): after
     each
     frame-to-frame step, look for the features again from the target's own panorama and keep
-    those found within ``anchor_radius`` pixels of the tracked position (see :func:`anchor`)."""
+    those whose patches correlate at least ``anchor_similarity`` (see :func:`anchor`)."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
 
+    # the paper's K: features a target frame shares with the previous one (paper's run: 80)
     min_shared: int = Field(80, ge=MIN_FEATURES)
-    goal_threshold: float = Field(0.01, gt=0)
-    gain: float = Field(0.5, gt=0)
-    min_features: int = Field(MIN_FEATURES, ge=MIN_FEATURES)
-    max_leg_steps: int = Field(400, ge=1)
+    goal_threshold: float = Field(0.01, gt=0)  # a leg ends when |M| falls below this, radians
+    gain: float = Field(0.5, gt=0)  # step length per unit |M|, m/rad (at most the step limit)
+    min_features: int = Field(MIN_FEATURES, ge=MIN_FEATURES)  # fewest kept features a step needs
+    max_leg_steps: int = Field(400, ge=1)  # steps after which a leg gives up
+    # sector bisectors: the current view's (no compass needed) or the goal view's, turned
     bisectors: Literal["current", "goal"] = "current"
-    anchor: bool = False
+    anchor: bool = False  # a departure: re-find the features from the target's panorama
+    # least correlation of a feature's target and current patches for anchor to keep it
     anchor_similarity: float = Field(0.9, ge=-1, le=1)
 
 
