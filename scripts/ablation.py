@@ -47,7 +47,7 @@ from homebench.analysis.ablation import (
 from homebench.analysis.findings import SiftRoles
 from homebench.config import load_config
 from homebench.data.synth.camera import CameraSpec
-from homebench.yamlio import load_yaml_mapping
+from homebench.yamlio import read_yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The roles of seed 001's methods in configs/ablation.yaml.
@@ -85,8 +85,8 @@ def level_config(base: dict[str, Any], camera: dict[str, Any], name: str, out: P
 
 
 def run(args: argparse.Namespace) -> None:
-    levels = Levels(**load_yaml_mapping(args.levels, what="levels"))
-    base = load_yaml_mapping(args.config, what="config", overrides=args.overrides)
+    levels = Levels(**read_yaml(args.levels, what="levels").data)
+    base = read_yaml(args.config, what="config", overrides=args.overrides).data
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "configs").mkdir(exist_ok=True)
     unknown = sorted(set(args.only) - set(levels.levels))
