@@ -237,6 +237,16 @@ def test_the_title_names_the_runs_ahc_definition_and_two_definitions_do_not_rank
     assert leaderboard(abstaining, metric="rr").view.title.startswith("RR [95 % interval]")
 
 
+def test_two_return_ratio_settings_do_not_rank_together(abstaining) -> None:
+    config = json.loads((abstaining[1] / "config.resolved.json").read_text())
+    config["metrics"]["return_ratio"]["no_estimate"] = "arrived"
+    (abstaining[1] / "config.resolved.json").write_text(json.dumps(config))
+    with pytest.raises(DataError, match="first and second define the RR otherwise") as refused:
+        leaderboard(abstaining, metric="rr")
+    assert "no_estimate fail" in str(refused.value) and "no_estimate arrived" in str(refused.value)
+    assert leaderboard(abstaining, metric="ahc").view.title.startswith("AHC")
+
+
 def test_the_cli_offers_every_board_metric() -> None:
     (option,) = [p for p in main.commands["leaderboard"].params if p.name == "metric"]
     assert sorted(option.type.choices) == sorted(BOARD_METRICS)

@@ -13,7 +13,8 @@ pairs, by what shows it (:data:`BOARD_METRICS`): an AHC cell reads ``AHC [lo, hi
 no estimate [%]``, the AHC with a missing estimate as 90 deg beside the paper's (or the other
 way round) and the share of pairs without an estimate; a mean AE cell adds the share. The
 title names the runs' AHC definition; runs that define the AHC otherwise
-(:class:`~homebench.config.AhcConfig`) are not ranked on an AHC together.
+(:class:`~homebench.config.AhcConfig`) are not ranked on an AHC together, nor runs whose
+return-ratio walks differ (:class:`~homebench.config.ReturnRatioConfig`) on the RR.
 
 A method label found in several runs becomes one row per run, ``run: label``, when its method
 or parameters differ between them or when two of them hold it under the same column; otherwise
@@ -28,15 +29,16 @@ import html
 import json
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
+from pydantic import BaseModel
 
 from homebench.analysis.worlds import world_keys, world_label
-from homebench.config import AhcConfig
+from homebench.config import AhcConfig, ReturnRatioConfig
 from homebench.errors import DataError
 from homebench.fileio import write_text_atomic
 from homebench.report.across_runs.run_set import load_grid_runs, missing_results, run_labels
@@ -173,18 +175,39 @@ def _row_labels(cells: pd.DataFrame) -> list[str]:
     ]
 
 
-def _ahc_settings(runs: Sequence[RunData], names: Sequence[str]) -> AhcConfig:
-    """The AHC settings the runs share; DataError naming two runs that define it otherwise."""
-    first = runs[0].metrics.ahc
+def _settings_text(settings: BaseModel, fields: Sequence[str]) -> str:
+    """``field value`` of each of ``fields`` of a settings model, comma-separated."""
+    return ", ".join(f"{name} {getattr(settings, name)}" for name in fields)
+
+
+def _check_same(
+    runs: Sequence[RunData],
+    names: Sequence[str],
+    what: str,
+    settings: Callable[[RunData], BaseModel],
+    fields: Sequence[str],
+) -> None:
+    """DataError naming two runs whose ``settings`` (of ``what``, a metric) differ in ``fields``."""
+    first = _settings_text(settings(runs[0]), fields)
     for name, run in zip(names, runs, strict=True):
-        ahc = run.metrics.ahc
-        if (ahc.definition, ahc.missing) != (first.definition, first.missing):
+        mine = _settings_text(settings(run), fields)
+        if mine != first:
             raise DataError(
-                f"leaderboard: {names[0]} and {name} define the AHC otherwise "
-                f"({first.definition}, missing {first.missing}; {ahc.definition}, missing "
-                f"{ahc.missing}): their AHCs do not rank together; choose another --metric"
+                f"leaderboard: {names[0]} and {name} define the {what} otherwise ({first}; "
+                f"{mine}): their {what}s do not rank together; choose another --metric"
             )
-    return first
+
+
+def _checked_settings(runs: Sequence[RunData], names: Sequence[str], metric: str) -> AhcConfig:
+    """The runs' AHC settings (the title names them), once the runs are known to compute
+    ``metric`` alike: the AHC's definition and missing pairs for an AHC metric, every
+    return-ratio setting for the RR; DataError naming two runs that differ."""
+    if metric in AHC_METRICS:
+        _check_same(runs, names, "AHC", lambda run: run.metrics.ahc, ("definition", "missing"))
+    if metric == "rr":
+        fields = tuple(ReturnRatioConfig.model_fields)
+        _check_same(runs, names, "RR", lambda run: run.metrics.return_ratio, fields)
+    return runs[0].metrics.ahc
 
 
 def _text(value: float, source: str) -> str:
@@ -225,7 +248,7 @@ def leaderboard(
     board = BOARD_METRICS[metric]
     names = run_labels(run_dirs, labels)
     runs = load_grid_runs(run_dirs)
-    ahc = _ahc_settings(runs, names) if metric in AHC_METRICS else runs[0].metrics.ahc
+    ahc = _checked_settings(runs, names, metric)
     columns = [metric, f"{metric}_lo", f"{metric}_hi", *board.companions, "no_estimate_share"]
     cells = _cells(runs, names, list(dict.fromkeys(columns)))
     headers = _column_headers(cells, names)
