@@ -110,6 +110,7 @@ def _homebench(*args: str) -> subprocess.CompletedProcess[str]:
     )  # fmt: skip
 
 
+@pytest.mark.slow  # CI time: docs/tutorials/own-bob.md runs verify, check and run in processes
 def test_every_command_in_a_process_of_its_own(grid: Path, tmp_path: Path) -> None:
     """The hand-written folder through every data command and a run, each a real process."""
     verified = _homebench("data", "verify", str(grid))

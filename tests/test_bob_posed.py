@@ -215,7 +215,7 @@ def _homebench(*args: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run(command, capture_output=True, text=True, timeout=300, check=False)
 
 
-@pytest.mark.slow  # CI time: test_readme_bob runs the guide's BoB route commands as processes
+@pytest.mark.slow  # CI time: docs/tutorials/own-bob.md checks and runs a BoB route in processes
 def test_a_hand_written_route_runs_and_reports_in_processes(
     grid_folder: Path, tmp_path: Path
 ) -> None:

@@ -38,22 +38,19 @@ def _run(tmp_path: Path, name: str, *args: str) -> tuple[Path, str]:
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str, Path]:
-    """The tiny run with --jobs 1 (and its report) and with --jobs 2 (tables only)."""
+    """The tiny run with --jobs 1 and with --jobs 2, tables only (CI time: the report of a
+    closed-loop run, its three figures, is written by docs/tutorials/robots.md in a process of
+    its own, the PDF by .ci/default-install)."""
     tmp_path = tmp_path_factory.mktemp("closed_loop")
-    one, out = _run(tmp_path, "one", "--jobs", "1")
+    one, out = _run(tmp_path, "one", "--jobs", "1", "--no-report")
     two, _ = _run(tmp_path, "two", "--jobs", "2", "--no-report")
     return one, out, two
 
 
-def test_run_writes_trials_tables_and_the_report(runs: tuple[Path, str, Path]) -> None:
+def test_run_writes_trials_and_tables(runs: tuple[Path, str, Path]) -> None:
     one, out, _ = runs
     assert "36 trial(s) computed, 0 reused" in out
     assert len(list((one / "trials").rglob("*.json"))) == 36
-    report = one / "report"
-    assert (report / "report.pdf").stat().st_size > 0
-    stems = {p.stem for p in (report / "figures").glob("*.png")}
-    assert stems == {"success_distance_posters", "catchment_posters_g0",
-                     "trajectories_posters_g0"}  # fmt: skip
     summary = pd.read_csv(one / "tables" / "summary.csv")
     assert list(summary["method"]) == ["warping", "truth", "random"]
     truth = summary.set_index("method").loc["truth"]

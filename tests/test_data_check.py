@@ -84,6 +84,7 @@ def _fixes(out: str) -> str:
     return out.split("correct it:")[1]
 
 
+@pytest.mark.slow  # CI time: docs/tutorials/own-grid.md checks a right manifest in a process
 def test_a_right_manifest_passes_in_a_real_process(panoramas: Path) -> None:
     done = subprocess.run(
         [sys.executable, "-m", "homebench", "data", "check", str(panoramas)],

@@ -38,7 +38,16 @@ def data_cache(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_every_tutorial_has_commands_to_run() -> None:
-    assert {page.stem for page in PAGES} >= {"tour", "plugin", "ci-smoke", "scale"}
+    assert {page.stem for page in PAGES} >= {
+        "tour",
+        "plugin",
+        "ci-smoke",
+        "scale",
+        "own-grid",
+        "own-bob",
+        "seed-001",
+        "robots",
+    }
     for page in PAGES:
         commands = [step.command for step in console_steps(page.read_text())]
         assert any(c.startswith("homebench ") for c in commands), page.name

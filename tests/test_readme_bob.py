@@ -38,6 +38,10 @@ def test_the_section_has_the_commands_it_documents() -> None:
         assert any(f"homebench {verb} " in c for c in commands), verb
 
 
+# CI time: docs/tutorials/own-bob.md runs the same commands on a BoB grid and route in processes
+# (verify, data check exit 3, homebench.yaml, check again, the route's headings, both runs);
+# data check proposing bob-recorder order: test_grid_order, test_bob_holes
+@pytest.mark.slow
 def test_every_command_of_the_bob_section_runs_as_shown(
     folders: dict[str, Path], tmp_path: Path
 ) -> None:

@@ -161,7 +161,9 @@ def test_a_folder_that_is_no_run_or_has_no_results_is_a_data_error(
         write_report(fake_run)
 
 
-@pytest.mark.slow  # CI time: test_user_path runs report and compare as processes on a real run
+# CI time: processes of docs/tutorials: tour.md reports a run and compares two, robots.md runs
+# homebench report
+@pytest.mark.slow
 def test_cli_report_and_compare_on_a_real_run(tmp_path: Path, arena_manifest: Path) -> None:
     run = real_arena_run(tmp_path / "a", arena_manifest)
     runner = CliRunner()

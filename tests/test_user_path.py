@@ -63,6 +63,10 @@ def ok(result: subprocess.CompletedProcess[str]) -> str:
     return result.stdout
 
 
+# CI time: docs/tutorials/own-grid.md runs a hand-written Vardy-layout manifest through data
+# verify, a data check that catches its mirrored direction, the fix and a run, each in a process;
+# seed-001.md runs P, PN and W and findings; tour.md runs report and compare
+@pytest.mark.slow
 def test_every_command_on_a_hand_written_database(databases: Path, tmp_path: Path) -> None:
     manifest = databases / "original" / "manifest.yaml"
     verified = ok(homebench("data", "verify", manifest, cwd=tmp_path))
