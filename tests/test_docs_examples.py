@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 import tomllib
 from pathlib import Path
 
@@ -51,6 +52,30 @@ def test_every_tutorial_has_commands_to_run() -> None:
     for page in PAGES:
         commands = [step.command for step in console_steps(page.read_text())]
         assert any(c.startswith("homebench ") for c in commands), page.name
+
+
+def test_every_command_too_long_to_run_here_names_what_exists() -> None:
+    """The ``bash`` blocks hold what CI cannot afford to run (the full experiments, a report):
+    each ``homebench`` command there names a command and options that exist, and the configs
+    it names are in the repository."""
+    from homebench.cli import main
+
+    root = TUTORIALS.parents[1]
+    commands = [
+        shlex.split(line)
+        for page in PAGES
+        for block in re.findall(r"```bash\n(.*?)```", page.read_text(), re.DOTALL)
+        for command in block.splitlines()
+        for line in command.split("&&")
+        if line.strip().startswith("homebench ")
+    ]
+    assert commands
+    for _, name, *args in commands:
+        command = main.commands[name]
+        options = {o for p in command.params for o in (*p.opts, *p.secondary_opts)}
+        assert {a.partition("=")[0] for a in args if a.startswith("--")} <= options, args
+        for arg in args:
+            assert not arg.startswith("configs/") or (root / arg).is_file(), arg
 
 
 @pytest.mark.parametrize("page", PAGES, ids=[page.stem for page in PAGES])
