@@ -135,9 +135,9 @@ def test_a_column_not_in_every_run_names_the_runs_that_hold_it(tmp_path: Path) -
     shared = leaderboard([quick, again]).view
     assert list(shared.frame.columns) == ["method", "a-a", "quick: a-b"]
     assert "a column named by its condition alone is in every run" in " ".join(shared.notes)
-    assert not leaderboard([quick]).view.notes and "quick: " not in " ".join(
-        leaderboard([quick]).view.frame.columns
-    )
+    alone = leaderboard([quick]).view  # its one note: its intervals rest on 2 goals
+    assert [note for note in alone.notes if "goals" not in note] == []
+    assert "quick: " not in " ".join(alone.frame.columns)
     out = tmp_path / "board.csv"
     args = ["leaderboard", str(quick), str(ant), "--out", str(out)]
     result = CliRunner().invoke(main, args)
@@ -245,6 +245,16 @@ def test_two_return_ratio_settings_do_not_rank_together(abstaining) -> None:
         leaderboard(abstaining, metric="rr")
     assert "no_estimate fail" in str(refused.value) and "no_estimate arrived" in str(refused.value)
     assert leaderboard(abstaining, metric="ahc").view.title.startswith("AHC")
+
+
+def test_intervals_over_few_goals_carry_the_reports_note(runs, tmp_path: Path) -> None:
+    assert any("rest on 2 goals, fewer than 5" in note for note in leaderboard(runs).view.notes)
+    goals = [(1, 2), (2, 3), (3, 1), (0, 2), (3, 3)]
+    many = [
+        write_fake_run(tmp_path / name, [FakeMethod(label, 10.0)], goals, CONDITIONS)
+        for name, label in (("five", "warping"), ("other", "sift"))
+    ]
+    assert not any("fewer than" in note for note in leaderboard(many).view.notes)
 
 
 def test_the_cli_offers_every_board_metric() -> None:

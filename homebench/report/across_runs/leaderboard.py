@@ -48,6 +48,7 @@ from homebench.report.tables import (
     SUMMARY_COLUMNS,
     TableView,
     ahc_header,
+    few_goals_note,
     make_view,
 )
 
@@ -250,6 +251,7 @@ def leaderboard(
     runs = load_grid_runs(run_dirs)
     ahc = _checked_settings(runs, names, metric)
     columns = [metric, f"{metric}_lo", f"{metric}_hi", *board.companions, "no_estimate_share"]
+    columns.append("n_goals")
     cells = _cells(runs, names, list(dict.fromkeys(columns)))
     headers = _column_headers(cells, names)
     cells["column"] = cells["column"].map(headers)
@@ -263,7 +265,8 @@ def leaderboard(
     rows, columns = list(dict.fromkeys(order["row"])), list(dict.fromkeys(cells["column"]))
     wide = cells.pivot(index="row", columns="column", values="text").reindex(rows)[columns]
     frame = wide.fillna(MISSING_TEXT).rename_axis(index="method", columns=None).reset_index()
-    notes = _column_notes(headers, names)
+    few = few_goals_note(cells["n_goals"])
+    notes = (*_column_notes(headers, names), *([few] if few else []))
     view = make_view("leaderboard", _title(metric, ahc), frame, {}, notes=notes)
     return Leaderboard(view, names, [Path(d) for d in run_dirs], missing_results(runs, names))
 
