@@ -227,3 +227,35 @@ def test_route_trial_files_that_do_not_fit_are_missing_and_recomputed(
     damage = [("visual_error_m", "far"), ("length_m", "x"), ("outbound", 5)]
     damaged = _damaged_run(tmp_path, config, "routes/*.json", damage)
     _read_as_missing_and_recomputed(tmp_path, damaged, 4)
+
+
+@pytest.mark.parametrize("kind", ["route", "closed-loop"])
+def test_a_robot_run_into_another_runs_folder_is_refused_and_leaves_it_alone(
+    tmp_path: Path, kind: str
+) -> None:
+    """A robot run wrote its config.resolved.json over whatever run its output folder held (a
+    grid run's included), and two runs into one folder ran at once. Now the folder belongs to
+    one config (another is refused unless --force) and is locked while a run uses it."""
+    from homebench.evaluation.run_folder import lock_run_folder
+
+    grid_run = tmp_path / "grid-run"
+    grid_run.mkdir()
+    held = json.dumps({"name": "a grid run", "output": str(grid_run), "methods": []})
+    (grid_run / "config.resolved.json").write_text(held)
+    base = TINY if kind == "closed-loop" else {
+        "kind": "route", "name": "r", "world": SMALL_WORLD, "methods": [{"method": "warping"}],
+        "routes": [{"name": "ell", "waypoints": [[2.0, 2.5], [2.0, 3.6]]}],
+    }  # fmt: skip
+    path = tmp_path / "robot.yaml"
+    path.write_text(yaml.safe_dump({**base, "output": str(grid_run)}))
+    refused = CliRunner().invoke(main, ["run", str(path), "--no-progress", "--no-report"])
+    assert refused.exit_code == 2, refused.output
+    assert "holds the run of another config" in refused.output and "--update" not in refused.output
+    assert (grid_run / "config.resolved.json").read_text() == held
+    written = {p.name for p in grid_run.iterdir()} - {".homebench.lock", ".homebench.claim"}
+    assert written == {"config.resolved.json"}  # its locks aside, as a refused grid run leaves
+
+    path.write_text(yaml.safe_dump({**base, "output": str(tmp_path / "busy")}))
+    with lock_run_folder(tmp_path / "busy"):
+        busy = CliRunner().invoke(main, ["run", str(path), "--no-progress", "--no-report"])
+    assert busy.exit_code == 2 and "in use by another homebench run" in busy.output

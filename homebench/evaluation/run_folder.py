@@ -139,10 +139,12 @@ def _first_difference(old: Any, new: Any, where: str = "") -> str:
     return f"{where or 'the config'}: {json.dumps(old)} there, {json.dumps(new)} now"
 
 
-def check_owner(run_dir: Path, resolved: dict[str, Any], take_over: bool) -> None:
+def check_owner(
+    run_dir: Path, resolved: dict[str, Any], take_over: bool, can_update: bool = True
+) -> None:
     """ConfigError unless ``run_dir`` is new, or holds a run of the config ``resolved``, or
     ``take_over`` (``--update`` or ``--force``); the error names the file to look at and the
-    first difference."""
+    first difference, and offers ``--update`` where the run ``can_update`` (a grid run)."""
     path = Path(run_dir) / CONFIG_FILE
     if take_over or not path.exists():
         return
@@ -159,8 +161,12 @@ def check_owner(run_dir: Path, resolved: dict[str, Any], take_over: bool) -> Non
         if stable_hash(old) == stable_hash(new):
             return
         difference = _first_difference(old, new)
+    update = (
+        "--update to make it this config's run (keeps every result whose job is unchanged), or "
+        if can_update
+        else "or "
+    )
     raise ConfigError(
         f"{run_dir}: holds the run of another config (see {path}; {difference}); choose "
-        "another output folder, --update to make it this config's run (keeps every result "
-        "whose job is unchanged), or --force to replace that run (recomputes every job)"
+        f"another output folder, {update}--force to replace that run (recomputes every job)"
     )

@@ -9,7 +9,8 @@ computes such a trial again; a report lists it as missing.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import contextlib
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, ClassVar
@@ -17,7 +18,10 @@ from typing import Annotated, Any, ClassVar
 import pandas as pd
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from homebench.evaluation.claims_record import with_stamped_claims
 from homebench.evaluation.jobs import JobOutcome
+from homebench.evaluation.run_folder import check_owner, claim_run_folder, lock_run_folder
+from homebench.evaluation.runner import write_run_metadata
 from homebench.fileio import parse_json, read_record_text
 
 #: Poses as a trial file holds them: (n, 3) rows (x [m], y [m], heading [rad]).
@@ -46,6 +50,24 @@ class TrialRunOutcome:
     reused: int
     failures: tuple[JobOutcome, ...]
     notes: tuple[str, ...] = ()
+
+
+@contextlib.contextmanager
+def robot_run_folder(config: Any, config_path: Path, results: str, force: bool) -> Iterator[Path]:
+    """The run folder of a robot experiment's ``config`` (its ``output``), as grid runs hold
+    theirs (:mod:`homebench.evaluation.run_folder`): locked while the run uses it (a second
+    run into it is refused), belonging to one config (a run of another config there, of any
+    kind, is refused unless ``force``), its ``config.resolved.json`` (the claims stamped
+    before any trial runs, counting the files ``results`` matches) and ``environment.json``
+    written before the trials."""
+    run_dir = Path(config.output)
+    with lock_run_folder(run_dir):
+        with claim_run_folder(run_dir):
+            resolved = config.model_dump(mode="json")
+            resolved = with_stamped_claims(resolved, config.claims, run_dir, results)
+            check_owner(run_dir, resolved, force, can_update=False)
+            write_run_metadata(config, config_path, run_dir, resolved)
+        yield run_dir
 
 
 def read_trial(

@@ -26,11 +26,11 @@ import numpy as np
 from homebench.data.synth.spec import WorldSpec
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
-from homebench.evaluation.claims_record import CLOSED_LOOP_RESULTS, with_stamped_claims
+from homebench.evaluation.claims_record import CLOSED_LOOP_RESULTS
 from homebench.evaluation.code_version import code_version, module_version
 from homebench.evaluation.executors import preload_for
 from homebench.evaluation.jobs import JobOutcome, run_safely
-from homebench.evaluation.runner import run_parallel, write_run_metadata
+from homebench.evaluation.runner import run_parallel
 from homebench.experiments.closed_loop.config import ClosedLoopConfig
 from homebench.experiments.closed_loop.homers import Homer, MethodHomer, RandomHomer, TruthHomer
 from homebench.experiments.closed_loop.loop import run_loop
@@ -41,7 +41,12 @@ from homebench.experiments.closed_loop.views import LatticeViews
 from homebench.experiments.memory import MemoryGuide, is_memory_method
 from homebench.experiments.robot import Robot
 from homebench.experiments.scene import Scene, database_content, forget_databases, open_scene
-from homebench.experiments.trials import TrialFile, TrialRecord, TrialRunOutcome
+from homebench.experiments.trials import (
+    TrialFile,
+    TrialRecord,
+    TrialRunOutcome,
+    robot_run_folder,
+)
 from homebench.fileio import make_folder, write_text_atomic
 from homebench.geometry import Pose
 from homebench.hashing import derived_seed, stable_hash
@@ -349,11 +354,19 @@ def run_closed_loop_experiment(
         raise ConfigError(f"{config_path}: {error}") from None
     if not plan:
         raise ConfigError(f"{config_path}: no start lies in free space far enough from a goal")
-    run_dir = Path(config.output)
-    make_folder(run_dir)
-    resolved = config.model_dump(mode="json")  # claims stated before any trial runs
-    resolved = with_stamped_claims(resolved, config.claims, run_dir, CLOSED_LOOP_RESULTS)
-    write_run_metadata(config, config_path, run_dir, resolved)
+    with robot_run_folder(config, config_path, CLOSED_LOOP_RESULTS, force) as run_dir:
+        return _run_closed_loop_trials(config, plan, run_dir, jobs, force, show_progress)
+
+
+def _run_closed_loop_trials(
+    config: ClosedLoopConfig,
+    plan: list[ClosedLoopJob],
+    run_dir: Path,
+    jobs: int | None,
+    force: bool,
+    show_progress: bool,
+) -> TrialRunOutcome:
+    """The trials of a closed-loop run in its claimed ``run_dir``, and its tables."""
     if force:
         for job in plan:
             job.result_path(run_dir).unlink(missing_ok=True)

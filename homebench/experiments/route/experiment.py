@@ -41,12 +41,12 @@ import pandas as pd
 
 from homebench.data.synth.world import PoseError
 from homebench.errors import ConfigError
-from homebench.evaluation.claims_record import ROUTE_RESULTS, with_stamped_claims
+from homebench.evaluation.claims_record import ROUTE_RESULTS
 from homebench.evaluation.code_version import code_version
 from homebench.evaluation.executors import preload_for
 from homebench.evaluation.jobs import JobOutcome, run_safely
 from homebench.evaluation.plan import COMPASS_METHOD
-from homebench.evaluation.runner import run_parallel, write_run_metadata
+from homebench.evaluation.runner import run_parallel
 from homebench.experiments.homing import MethodHomer
 from homebench.experiments.memory import MemoryGuide, facing, is_memory_method
 from homebench.experiments.robot import DriftModel, Robot, dead_reckon
@@ -67,7 +67,12 @@ from homebench.experiments.route.records import RouteRecord
 from homebench.experiments.route.snapshots import SnapshotRule, similarity_frames, spacing_frames
 from homebench.experiments.route.visual import home_visually
 from homebench.experiments.scene import Camera, Scene, forget_databases, open_scene
-from homebench.experiments.trials import TrialFile, TrialRecord, TrialRunOutcome
+from homebench.experiments.trials import (
+    TrialFile,
+    TrialRecord,
+    TrialRunOutcome,
+    robot_run_folder,
+)
 from homebench.fileio import make_folder, write_text_atomic
 from homebench.geometry import FloatArray, Pose, angular_error
 from homebench.hashing import derived_seed, stable_hash
@@ -584,11 +589,14 @@ def run_route_experiment(
     longer than the config's ``job_timeout_s`` fails."""
     forget_databases()  # read as they are now: an edited database gives other keys
     check_routes(config, route_scene(config), config_path)
-    run_dir = Path(config.output)
-    make_folder(run_dir)
-    resolved = config.model_dump(mode="json")  # claims stated before any trial runs
-    resolved = with_stamped_claims(resolved, config.claims, run_dir, ROUTE_RESULTS)
-    write_run_metadata(config, config_path, run_dir, resolved)
+    with robot_run_folder(config, config_path, ROUTE_RESULTS, force) as run_dir:
+        return _run_route_trials(config, run_dir, jobs, force, show_progress)
+
+
+def _run_route_trials(
+    config: RouteConfig, run_dir: Path, jobs: int | None, force: bool, show_progress: bool
+) -> TrialRunOutcome:
+    """The trials of a route run in its claimed ``run_dir``, and its tables."""
     plan = route_jobs(config)
     if force:
         for job in plan:
