@@ -219,6 +219,9 @@ TINY = {
 }
 
 
+# CI time: robot trials of every kind run through the same run_parallel; test_closed_loop_run
+# compares --jobs 1 and 2 tables in the default selection
+@pytest.mark.slow
 def test_cli_runs_a_pairwise_route_config_alike_with_one_and_two_workers(tmp_path) -> None:
     """Every (trial, method) a job and a file; the tables of --jobs 1 and 2 are byte-equal."""
     path = tmp_path / "tiny.yaml"
