@@ -88,6 +88,9 @@ def test_report_writes_pdf_tables_and_figures(tmp_path: Path) -> None:
     assert (folder / "tables" / "summary.tex").is_file()
 
 
+# CI time: two whole reports (15-28 s); fresh clones' .ci/run took 942-1020 s this stop. The
+# report's inputs are covered in the default selection by test_report_reuse's key tests
+@pytest.mark.slow
 def test_two_reports_of_a_run_are_byte_identical(fake_run: Path, tmp_path: Path) -> None:
     first = write_report(fake_run, ["pdf", "html", "md"], tmp_path / "a", max_goals=1).files
     second = write_report(fake_run, ["pdf", "html", "md"], tmp_path / "b", max_goals=1).files
